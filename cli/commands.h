@@ -1,0 +1,20 @@
+#pragma once
+// Subcommands of the sphfx executable. Each lives in its own cmd_*.cpp and only parses options and
+// calls a stage library.
+#include <CLI/CLI.hpp>
+#include <string>
+#include <vector>
+
+#include "sphfx/core/gl_context.h"
+
+namespace sphfx::cli {
+
+/// Adds --gl and --gl-debug to `cmd`; the returned options are filled when the command line is parsed.
+std::shared_ptr<GLContextOptions> addGLOptions(CLI::App* cmd);
+/// Adds repeatable --set path=value to `cmd`.
+std::shared_ptr<std::vector<std::string>> addSetOption(CLI::App* cmd);
+
+void addInfoCommand(CLI::App& app);
+void addSceneCommand(CLI::App& app);
+
+}  // namespace sphfx::cli

@@ -1,0 +1,26 @@
+#include "commands.h"
+
+namespace sphfx::cli {
+
+std::shared_ptr<GLContextOptions> addGLOptions(CLI::App* cmd) {
+  auto options = std::make_shared<GLContextOptions>();
+  auto name = std::make_shared<std::string>("auto");
+  cmd->add_option("--gl", *name, "OpenGL backend: auto (EGL device, then EGL surfaceless, then OSMesa), "
+                                 "egl-device, egl-surfaceless or osmesa")
+      ->check(CLI::IsMember(glBackendNames()))
+      ->each([options](const std::string& v) { options->backend = parseGLBackend(v); });
+  cmd->add_flag("--gl-debug", options->debug,
+                "Check GL errors after every dispatch and draw, and print KHR_debug messages (slow)");
+  return options;
+}
+
+std::shared_ptr<std::vector<std::string>> addSetOption(CLI::App* cmd) {
+  auto sets = std::make_shared<std::vector<std::string>>();
+  cmd->add_option("--set", *sets, "Override a scene parameter, e.g. --set fluid.viscosity=0.02 (repeatable)")
+      ->type_name("PATH=VALUE")
+      ->take_all()
+      ->allow_extra_args(false);
+  return sets;
+}
+
+}  // namespace sphfx::cli

@@ -1,0 +1,195 @@
+#pragma once
+/// @file scene.h
+/// @brief The scene: everything a shot needs, in SI units, loaded from JSON. Axis convention: +Y is up.
+///
+/// Every parameter is declared once, in scene.cpp, with its default, unit, valid range and description;
+/// `sphfx scene --schema` and docs/scene-format.md are generated from those declarations.
+
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "sphfx/core/schema.h"
+
+namespace sphfx {
+
+using Vec3d = std::array<double, 3>;
+
+enum class Solver { WCSPH, DFSPH };
+enum class EquationOfState { Linear, Tait };
+enum class ViscosityModel { None, Laplacian, Artificial };
+enum class TimeStepMode { Fixed, Cfl };
+enum class Shape { Box, Sphere };
+/// Optional per-particle attributes of the cache. Position `P` and velocity `v` are always stored.
+enum class CacheAttribute { Density, Pressure, Id };
+enum class SurfaceMethod { Spheres, ZhuBridson, Anisotropic };
+enum class RenderSource { Surface, Particles };
+enum class ColorBy { Height, Speed };
+enum class ImageFormat { Png, Exr };
+
+/// The simulation domain: a closed box with solid walls on all six sides.
+struct Domain {
+  Vec3d min{};
+  Vec3d max{};
+};
+
+/// A block of fluid present at the first frame.
+struct FluidBlock {
+  Shape shape = Shape::Box;
+  Vec3d min{};     ///< box only
+  Vec3d max{};     ///< box only
+  Vec3d center{};  ///< sphere only
+  double radius = 0;
+  Vec3d velocity{};  ///< initial velocity of every particle in the block
+};
+
+struct Fluid {
+  double spacing = 0;  ///< initial particle spacing (m); sets the resolution
+  double restDensity = 0;
+  ViscosityModel viscosityModel = ViscosityModel::Artificial;
+  double viscosity = 0;            ///< kinematic viscosity (m^2/s), laplacian model
+  double artificialViscosity = 0;  ///< Monaghan alpha, artificial model
+  std::vector<FluidBlock> blocks;
+};
+
+struct SolverSettings {
+  Solver method = Solver::WCSPH;
+  EquationOfState eos = EquationOfState::Tait;
+  double stiffness = 0;     ///< linear EOS: p = k (rho - rho0), k in Pa / (kg/m^3) = m^2/s^2
+  double speedOfSound = 0;  ///< Tait EOS: B = rho0 c^2 / gamma
+  double gamma = 7;
+  double kernelSupport = 0;  ///< kernel support radius h as a multiple of the particle spacing
+  double maxDensityError = 0;     ///< DFSPH: average density error tolerance (fraction of rho0)
+  double maxDivergenceError = 0;  ///< DFSPH: divergence tolerance (fraction of rho0 per second)
+  int minIterations = 0;
+  int maxIterations = 0;
+};
+
+struct TimeSettings {
+  double fps = 0;
+  int startFrame = 1;
+  int endFrame = 1;
+  TimeStepMode mode = TimeStepMode::Cfl;
+  double dt = 0;  ///< fixed mode
+  double cflFactor = 0;
+  double viscousFactor = 0;
+  double forceFactor = 0;
+  double dtMin = 0;
+  double dtMax = 0;
+};
+
+/// Translation of a collider at a time; linear in between, held before the first and after the last key.
+struct Keyframe {
+  double time = 0;
+  Vec3d offset{};
+};
+
+/// A solid object the fluid flows around, moved by keyframed translation.
+struct Collider {
+  std::string name;
+  Shape shape = Shape::Box;
+  Vec3d min{};
+  Vec3d max{};
+  Vec3d center{};
+  double radius = 0;
+  std::vector<Keyframe> keyframes;
+};
+
+struct Health {
+  double maxDensityRatio = 0;  ///< stop if any density exceeds this multiple of rest density
+  double maxSpeed = 0;         ///< stop if any particle is faster than this (m/s)
+};
+
+struct CacheSettings {
+  std::vector<CacheAttribute> attributes;
+};
+
+struct SurfaceSettings {
+  SurfaceMethod method = SurfaceMethod::ZhuBridson;
+  double voxelFactor = 0;   ///< voxel size as a multiple of the particle spacing
+  double radiusFactor = 0;  ///< particle radius as a multiple of the particle spacing
+  int smoothIterations = 0;
+  double adaptivity = 0;
+};
+
+struct CameraKey {
+  double time = 0;
+  Vec3d position{};
+  Vec3d lookAt{};
+};
+
+struct Camera {
+  Vec3d position{};
+  Vec3d lookAt{};
+  double fovDegrees = 0;  ///< vertical field of view
+  std::vector<CameraKey> keyframes;
+};
+
+struct RenderSettings {
+  int width = 0;
+  int height = 0;
+  int samples = 0;
+  RenderSource source = RenderSource::Surface;
+  ColorBy colorBy = ColorBy::Height;
+  ImageFormat format = ImageFormat::Png;
+  std::optional<Camera> camera;  ///< absent: automatic framing of the domain
+};
+
+struct Scene {
+  int version = 1;
+  std::string name;
+  Domain domain;
+  Vec3d gravity{};
+  Fluid fluid;
+  SolverSettings solver;
+  TimeSettings time;
+  std::vector<Collider> colliders;
+  Health health;
+  CacheSettings cache;
+  SurfaceSettings surface;
+  RenderSettings render;
+
+  /// Support radius of the SPH kernels (m).
+  double kernelRadius() const { return solver.kernelSupport * fluid.spacing; }
+  /// Mass of one particle (kg): rest density times the spacing cubed.
+  double particleMass() const { return fluid.restDensity * fluid.spacing * fluid.spacing * fluid.spacing; }
+  /// Simulated time of a frame number (the start frame is t = 0).
+  double frameTime(int frame) const { return double(frame - time.startFrame) / time.fps; }
+  bool hasCacheAttribute(CacheAttribute a) const;
+};
+
+/// The scene schema (all declarations). Used for validation, resolved output and docs.
+const schema::Object<Scene>& sceneSchema();
+
+/// Applies one "--set path=value" override to raw scene JSON. The path is dotted
+/// ("fluid.viscosity", "fluid.blocks.0.min"); the value is parsed as JSON, or taken as a string if it is
+/// not valid JSON ("solver.method=dfsph"). Missing objects on the way are created.
+/// @throws InputError if the text has no '=' or the path runs through a non-object value.
+void applyOverride(schema::Json& raw, const std::string& assignment);
+
+/// Validates raw scene JSON and returns the scene. `source` names the input in error messages.
+/// @throws InputError "SOURCE: /json/path: what was expected, got what".
+Scene parseScene(const schema::Json& raw, const std::string& source);
+
+/// Reads, overrides and validates a scene file.
+/// @throws InputError on unreadable files, JSON syntax errors and every validation failure.
+Scene loadScene(const std::string& path, const std::vector<std::string>& overrides = {});
+
+/// The resolved scene as JSON, every default filled in. parseScene(sceneToJson(s)) == s.
+schema::Json sceneToJson(const Scene& scene);
+
+/// The parameter reference as Markdown (docs/scene-format.md is this text).
+std::string sceneReferenceMarkdown();
+
+/// Number of particles the fluid blocks produce (same lattice as the simulator seeds).
+size_t countInitialParticles(const Scene& scene);
+
+/// Initial particles: a cubic lattice of `spacing`, cell-centred in each block, with the block's velocity.
+struct SeededParticles {
+  std::vector<std::array<float, 3>> position;
+  std::vector<std::array<float, 3>> velocity;
+};
+SeededParticles seedParticles(const Scene& scene);
+
+}  // namespace sphfx

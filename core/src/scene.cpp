@@ -1,0 +1,512 @@
+#include "sphfx/core/scene.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "sphfx/core/error.h"
+
+namespace sphfx {
+
+using schema::Json;
+using schema::makeSchema;
+using schema::Object;
+using schema::Range;
+using schema::SchemaError;
+
+namespace {
+
+const std::vector<std::pair<std::string, Shape>> kShapes = {{"box", Shape::Box}, {"sphere", Shape::Sphere}};
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr size_t kUnbounded = std::numeric_limits<size_t>::max();
+constexpr size_t kMaxParticles = 200'000'000;
+
+std::string vecText(const Vec3d& v) { return fmt::format("[{}, {}, {}]", v[0], v[1], v[2]); }
+
+/// Boxes need min/max, spheres need center/radius; a key of the other shape is an error rather than
+/// silently ignored.
+template <class T>
+void checkShape(const T& value, const Json& raw, const std::string& path) {
+  const bool box = value.shape == Shape::Box;
+  const std::vector<std::string> needed = box ? std::vector<std::string>{"min", "max"}
+                                              : std::vector<std::string>{"center", "radius"};
+  const std::vector<std::string> unused = box ? std::vector<std::string>{"center", "radius"}
+                                              : std::vector<std::string>{"min", "max"};
+  const std::string shapeName = box ? "box" : "sphere";
+  for (const auto& key : needed)
+    if (!raw.contains(key))
+      throw SchemaError(path, "a " + shapeName + " needs \"" + key + "\"");
+  for (const auto& key : unused)
+    if (raw.contains(key))
+      throw SchemaError(schema::childPath(path, key), "not used by shape \"" + shapeName + "\"");
+  if (box)
+    for (int a = 0; a < 3; ++a)
+      if (!(value.min[a] < value.max[a]))
+        throw SchemaError(schema::childPath(path, "max"),
+                          "expected max > min on every axis, got min " + vecText(value.min) + ", max " +
+                              vecText(value.max));
+  if (!box && !(value.radius > 0)) throw SchemaError(schema::childPath(path, "radius"), "expected a radius > 0");
+}
+
+template <class T>
+bool isBox(const T& v) {
+  return v.shape == Shape::Box;
+}
+template <class T>
+bool isSphere(const T& v) {
+  return v.shape == Shape::Sphere;
+}
+
+std::shared_ptr<const Object<Domain>> domainSchema() {
+  return makeSchema<Domain>([](Object<Domain>& o) {
+    o.vec3("min", &Domain::min, {0, 0, 0}, "m", Range::any(), "Lower corner of the domain box (solid walls).")
+        .vec3("max", &Domain::max, {1, 1, 1}, "m", Range::any(), "Upper corner of the domain box (solid walls).")
+        .check([](const Domain& d, const Json&, const std::string& path) {
+          for (int a = 0; a < 3; ++a)
+            if (!(d.min[a] < d.max[a]))
+              throw SchemaError(schema::childPath(path, "max"), "expected max > min on every axis, got min " +
+                                                                    vecText(d.min) + ", max " + vecText(d.max));
+        });
+  });
+}
+
+std::shared_ptr<const Object<FluidBlock>> fluidBlockSchema() {
+  return makeSchema<FluidBlock>([](Object<FluidBlock>& o) {
+    o.choice("shape", &FluidBlock::shape, Shape::Box, kShapes, "Shape of the block.")
+        .vec3("min", &FluidBlock::min, {0, 0, 0}, "m", Range::any(), "Lower corner.")
+        .onlyWhen(isBox<FluidBlock>, "box")
+        .vec3("max", &FluidBlock::max, {0, 0, 0}, "m", Range::any(), "Upper corner.")
+        .onlyWhen(isBox<FluidBlock>, "box")
+        .vec3("center", &FluidBlock::center, {0, 0, 0}, "m", Range::any(), "Centre.")
+        .onlyWhen(isSphere<FluidBlock>, "sphere")
+        .number("radius", &FluidBlock::radius, 0, "m", Range::nonNegative(), "Radius.")
+        .onlyWhen(isSphere<FluidBlock>, "sphere")
+        .vec3("velocity", &FluidBlock::velocity, {0, 0, 0}, "m/s", Range::closed(-1e4, 1e4),
+              "Initial velocity of the block's particles.")
+        .check(checkShape<FluidBlock>);
+  });
+}
+
+std::shared_ptr<const Object<Fluid>> fluidSchema() {
+  return makeSchema<Fluid>([](Object<Fluid>& o) {
+    o.number("spacing", &Fluid::spacing, 0.02, "m", Range{0, 10, true, false},
+             "Initial particle spacing; sets the resolution (particle volume = spacing^3).")
+        .number("rest_density", &Fluid::restDensity, 1000, "kg/m^3", Range{0, 1e5, true, false},
+                "Rest density of the fluid.")
+        .choice("viscosity_model", &Fluid::viscosityModel, ViscosityModel::Artificial,
+                {{"none", ViscosityModel::None},
+                 {"laplacian", ViscosityModel::Laplacian},
+                 {"artificial", ViscosityModel::Artificial}},
+                "Viscosity term: none, the seed's Laplacian form (uses viscosity), or Monaghan's artificial "
+                "viscosity (uses artificial_viscosity).")
+        .number("viscosity", &Fluid::viscosity, 1e-6, "m^2/s", Range::closed(0, 100),
+                "Kinematic viscosity for the laplacian model (water: 1e-6).")
+        .number("artificial_viscosity", &Fluid::artificialViscosity, 0.02, "", Range::closed(0, 10),
+                "Monaghan alpha for the artificial model.")
+        .list("blocks", &Fluid::blocks, fluidBlockSchema(), 1, kUnbounded,
+              "Blocks of fluid at the first frame (boxes or spheres, must not overlap).");
+  });
+}
+
+std::shared_ptr<const Object<SolverSettings>> solverSchema() {
+  return makeSchema<SolverSettings>([](Object<SolverSettings>& o) {
+    o.choice("method", &SolverSettings::method, Solver::WCSPH, {{"wcsph", Solver::WCSPH}, {"dfsph", Solver::DFSPH}},
+             "Pressure solver: weakly compressible SPH or divergence-free SPH (Bender & Koschier).")
+        .choice("eos", &SolverSettings::eos, EquationOfState::Tait,
+                {{"linear", EquationOfState::Linear}, {"tait", EquationOfState::Tait}},
+                "WCSPH equation of state: the seed's p = k (rho - rho0), or Tait with speed_of_sound and gamma.")
+        .number("stiffness", &SolverSettings::stiffness, 1000, "m^2/s^2", Range{0, 1e9, true, false},
+                "Linear EOS stiffness k.")
+        .number("speed_of_sound", &SolverSettings::speedOfSound, 30, "m/s", Range{0, 1e5, true, false},
+                "Tait EOS numerical speed of sound (about 10x the fastest flow keeps density error near 1%).")
+        .number("gamma", &SolverSettings::gamma, 7, "", Range::closed(1, 10), "Tait EOS exponent.")
+        .number("kernel_support", &SolverSettings::kernelSupport, 2.0, "spacings", Range::closed(1.2, 4),
+                "Kernel support radius h as a multiple of the particle spacing.")
+        .number("max_density_error", &SolverSettings::maxDensityError, 0.001, "", Range{0, 0.1, true, false},
+                "DFSPH: average density error tolerance, as a fraction of rest density.")
+        .number("max_divergence_error", &SolverSettings::maxDivergenceError, 0.01, "1/s", Range{0, 10, true, false},
+                "DFSPH: average divergence error tolerance, as a fraction of rest density per second.")
+        .integer("min_iterations", &SolverSettings::minIterations, 2, "", Range::closed(1, 1000),
+                 "DFSPH: minimum pressure iterations per step.")
+        .integer("max_iterations", &SolverSettings::maxIterations, 100, "", Range::closed(1, 100000),
+                 "DFSPH: maximum pressure iterations per step.")
+        .check([](const SolverSettings& s, const Json&, const std::string& path) {
+          if (s.minIterations > s.maxIterations)
+            throw SchemaError(schema::childPath(path, "max_iterations"),
+                              fmt::format("expected max_iterations >= min_iterations ({}), got {}", s.minIterations,
+                                          s.maxIterations));
+        });
+  });
+}
+
+std::shared_ptr<const Object<TimeSettings>> timeSchema() {
+  return makeSchema<TimeSettings>([](Object<TimeSettings>& o) {
+    o.number("fps", &TimeSettings::fps, 24, "1/s", Range{0, 1000, true, false}, "Frames per second of the cache.")
+        .integer("start_frame", &TimeSettings::startFrame, 1, "frame", Range::closed(-1e6, 1e7),
+                 "First frame (simulated time 0); film shots often start at 1001.")
+        .integer("end_frame", &TimeSettings::endFrame, 48, "frame", Range::closed(-1e6, 1e7), "Last frame, inclusive.")
+        .choice("dt_mode", &TimeSettings::mode, TimeStepMode::Cfl,
+                {{"fixed", TimeStepMode::Fixed}, {"cfl", TimeStepMode::Cfl}},
+                "Time step control: fixed dt, or CFL-adaptive between dt_min and dt_max.")
+        .number("dt", &TimeSettings::dt, 0.0007, "s", Range{0, 1, true, false}, "Fixed mode: the time step.")
+        .number("cfl_factor", &TimeSettings::cflFactor, 0.4, "", Range{0, 10, true, false},
+                "CFL mode: factor on the acoustic (WCSPH) or flow-speed (DFSPH) limit h / (c + |v|max).")
+        .number("viscous_factor", &TimeSettings::viscousFactor, 0.125, "", Range{0, 10, true, false},
+                "CFL mode: factor on the viscous limit h^2 / nu.")
+        .number("force_factor", &TimeSettings::forceFactor, 0.25, "", Range{0, 10, true, false},
+                "CFL mode: factor on the force limit sqrt(h / |a|max).")
+        .number("dt_min", &TimeSettings::dtMin, 1e-6, "s", Range{0, 1, true, false},
+                "CFL mode: smallest step; needing less stops the run with an error.")
+        .number("dt_max", &TimeSettings::dtMax, 0.005, "s", Range{0, 1, true, false}, "CFL mode: largest step.")
+        .check([](const TimeSettings& t, const Json&, const std::string& path) {
+          if (t.endFrame < t.startFrame)
+            throw SchemaError(schema::childPath(path, "end_frame"),
+                              fmt::format("expected end_frame >= start_frame ({}), got {}", t.startFrame, t.endFrame));
+          if (t.endFrame - t.startFrame > 1'000'000)
+            throw SchemaError(schema::childPath(path, "end_frame"), "expected at most 1000000 frames");
+          if (t.dtMin > t.dtMax)
+            throw SchemaError(schema::childPath(path, "dt_min"),
+                              fmt::format("expected dt_min <= dt_max ({}), got {}", t.dtMax, t.dtMin));
+        });
+  });
+}
+
+std::shared_ptr<const Object<Keyframe>> keyframeSchema() {
+  return makeSchema<Keyframe>([](Object<Keyframe>& o) {
+    o.number("time", &Keyframe::time, 0, "s", Range::any(), "Time of the key (frame start_frame is 0 s).")
+        .vec3("offset", &Keyframe::offset, {0, 0, 0}, "m", Range::any(), "Translation from the rest placement.");
+  });
+}
+
+template <class K>
+void checkIncreasingTimes(const std::vector<K>& keys, const std::string& path) {
+  for (size_t i = 1; i < keys.size(); ++i)
+    if (!(keys[i].time > keys[i - 1].time))
+      throw SchemaError(schema::childPath(schema::childPath(path, "keyframes"), i) + "/time",
+                        fmt::format("expected times in increasing order, got {} after {}", keys[i].time,
+                                    keys[i - 1].time));
+}
+
+std::shared_ptr<const Object<Collider>> colliderSchema() {
+  return makeSchema<Collider>([](Object<Collider>& o) {
+    o.text("name", &Collider::name, "", "Name shown in logs and renders.")
+        .choice("shape", &Collider::shape, Shape::Box, kShapes, "Shape of the collider.")
+        .vec3("min", &Collider::min, {0, 0, 0}, "m", Range::any(), "Lower corner at rest.")
+        .onlyWhen(isBox<Collider>, "box")
+        .vec3("max", &Collider::max, {0, 0, 0}, "m", Range::any(), "Upper corner at rest.")
+        .onlyWhen(isBox<Collider>, "box")
+        .vec3("center", &Collider::center, {0, 0, 0}, "m", Range::any(), "Centre at rest.")
+        .onlyWhen(isSphere<Collider>, "sphere")
+        .number("radius", &Collider::radius, 0, "m", Range::nonNegative(), "Radius.")
+        .onlyWhen(isSphere<Collider>, "sphere")
+        .list("keyframes", &Collider::keyframes, keyframeSchema(), 0, kUnbounded,
+              "Keyframed translation, linear between keys, held outside them; empty: static.")
+        .check([](const Collider& c, const Json& raw, const std::string& path) {
+          checkShape(c, raw, path);
+          checkIncreasingTimes(c.keyframes, path);
+        });
+  });
+}
+
+std::shared_ptr<const Object<Health>> healthSchema() {
+  return makeSchema<Health>([](Object<Health>& o) {
+    o.number("max_density_ratio", &Health::maxDensityRatio, 3.0, "", Range{1, 1e6, true, false},
+             "Stop the run if any particle's density exceeds this multiple of rest density.")
+        .number("max_speed", &Health::maxSpeed, 1000, "m/s", Range{0, 1e8, true, false},
+                "Stop the run if any particle moves faster than this.");
+  });
+}
+
+std::shared_ptr<const Object<CacheSettings>> cacheSchema() {
+  return makeSchema<CacheSettings>([](Object<CacheSettings>& o) {
+    o.choiceList("attributes", &CacheSettings::attributes, std::vector<CacheAttribute>{},
+                 {{"density", CacheAttribute::Density},
+                  {"pressure", CacheAttribute::Pressure},
+                  {"id", CacheAttribute::Id}},
+                 "Optional per-particle attributes written besides P and v.");
+  });
+}
+
+std::shared_ptr<const Object<SurfaceSettings>> surfaceSchema() {
+  return makeSchema<SurfaceSettings>([](Object<SurfaceSettings>& o) {
+    o.choice("method", &SurfaceSettings::method, SurfaceMethod::ZhuBridson,
+             {{"spheres", SurfaceMethod::Spheres},
+              {"zhu-bridson", SurfaceMethod::ZhuBridson},
+              {"anisotropic", SurfaceMethod::Anisotropic}},
+             "Particle-to-level-set method.")
+        .number("voxel_factor", &SurfaceSettings::voxelFactor, 0.5, "spacings", Range::closed(0.05, 4),
+                "Voxel size as a multiple of the particle spacing.")
+        .number("radius_factor", &SurfaceSettings::radiusFactor, 1.0, "spacings", Range::closed(0.1, 8),
+                "Particle radius as a multiple of the particle spacing.")
+        .integer("smooth_iterations", &SurfaceSettings::smoothIterations, 2, "", Range::closed(0, 100),
+                 "Level-set smoothing iterations after rasterizing.")
+        .number("adaptivity", &SurfaceSettings::adaptivity, 0.0, "", Range::closed(0, 1),
+                "Mesh adaptivity (0: uniform triangles).");
+  });
+}
+
+std::shared_ptr<const Object<CameraKey>> cameraKeySchema() {
+  return makeSchema<CameraKey>([](Object<CameraKey>& o) {
+    o.number("time", &CameraKey::time, 0, "s", Range::any(), "Time of the key.")
+        .vec3("position", &CameraKey::position, {0, 0, 0}, "m", Range::any(), "Camera position.")
+        .vec3("look_at", &CameraKey::lookAt, {0, 0, 0}, "m", Range::any(), "Point the camera looks at.");
+  });
+}
+
+std::shared_ptr<const Object<Camera>> cameraSchema() {
+  return makeSchema<Camera>([](Object<Camera>& o) {
+    o.vec3("position", &Camera::position, {2, 1.5, 3}, "m", Range::any(), "Camera position.")
+        .vec3("look_at", &Camera::lookAt, {0.5, 0.3, 0.5}, "m", Range::any(), "Point the camera looks at.")
+        .number("fov", &Camera::fovDegrees, 40, "degrees", Range{0, 180, true, true}, "Vertical field of view.")
+        .list("keyframes", &Camera::keyframes, cameraKeySchema(), 0, kUnbounded,
+              "Optional animation; when present it overrides position and look_at.")
+        .check([](const Camera& c, const Json&, const std::string& path) {
+          checkIncreasingTimes(c.keyframes, path);
+          double d2 = 0;
+          for (int a = 0; a < 3; ++a) d2 += (c.position[a] - c.lookAt[a]) * (c.position[a] - c.lookAt[a]);
+          if (c.keyframes.empty() && d2 == 0)
+            throw SchemaError(schema::childPath(path, "look_at"), "expected look_at to differ from position");
+        });
+  });
+}
+
+std::shared_ptr<const Object<RenderSettings>> renderSchema() {
+  return makeSchema<RenderSettings>([](Object<RenderSettings>& o) {
+    o.integer("width", &RenderSettings::width, 1280, "px", Range::closed(16, 16384), "Image width.")
+        .integer("height", &RenderSettings::height, 720, "px", Range::closed(16, 16384), "Image height.")
+        .integer("samples", &RenderSettings::samples, 4, "", Range::closed(1, 16), "MSAA samples per pixel.")
+        .choice("source", &RenderSettings::source, RenderSource::Surface,
+                {{"surface", RenderSource::Surface}, {"particles", RenderSource::Particles}},
+                "What to render: the surfaced meshes or the particles as sphere impostors.")
+        .choice("color_by", &RenderSettings::colorBy, ColorBy::Height,
+                {{"height", ColorBy::Height}, {"speed", ColorBy::Speed}}, "Particles mode: colour ramp input.")
+        .choice("format", &RenderSettings::format, ImageFormat::Png,
+                {{"png", ImageFormat::Png}, {"exr", ImageFormat::Exr}},
+                "Image format: 8-bit sRGB PNG, or half RGBA + float Z EXR.")
+        .optionalChild("camera", &RenderSettings::camera, cameraSchema(),
+                       "Camera; absent: automatic framing of the domain.");
+  });
+}
+
+bool insideDomain(const Domain& d, const Vec3d& lo, const Vec3d& hi) {
+  for (int a = 0; a < 3; ++a)
+    if (lo[a] < d.min[a] || hi[a] > d.max[a]) return false;
+  return true;
+}
+
+void blockBounds(const FluidBlock& b, Vec3d& lo, Vec3d& hi) {
+  for (int a = 0; a < 3; ++a) {
+    lo[a] = b.shape == Shape::Box ? b.min[a] : b.center[a] - b.radius;
+    hi[a] = b.shape == Shape::Box ? b.max[a] : b.center[a] + b.radius;
+  }
+}
+
+/// Geometry that only the whole scene can check: blocks inside the domain, not overlapping, each giving
+/// at least one particle, and a particle count the tool can hold.
+void checkSceneGeometry(const Scene& s, const Json&, const std::string&) {
+  std::vector<std::pair<Vec3d, Vec3d>> bounds;
+  for (size_t i = 0; i < s.fluid.blocks.size(); ++i) {
+    const std::string path = "/fluid/blocks/" + std::to_string(i);
+    Vec3d lo, hi;
+    blockBounds(s.fluid.blocks[i], lo, hi);
+    if (!insideDomain(s.domain, lo, hi))
+      throw SchemaError(path, "block " + vecText(lo) + " - " + vecText(hi) + " is not inside the domain " +
+                                  vecText(s.domain.min) + " - " + vecText(s.domain.max));
+    for (size_t j = 0; j < bounds.size(); ++j) {
+      bool overlap = true;
+      for (int a = 0; a < 3; ++a) overlap = overlap && lo[a] < bounds[j].second[a] && bounds[j].first[a] < hi[a];
+      if (overlap) throw SchemaError(path, "overlaps block " + std::to_string(j));
+    }
+    bounds.emplace_back(lo, hi);
+    Scene single = s;
+    single.fluid.blocks = {s.fluid.blocks[i]};
+    if (countInitialParticles(single) == 0)
+      throw SchemaError(path, fmt::format("block holds no particle at spacing {} m", s.fluid.spacing));
+  }
+  const size_t n = countInitialParticles(s);
+  if (n > kMaxParticles)
+    throw SchemaError("/fluid/spacing", fmt::format("spacing {} m gives {} particles, more than the limit of {}",
+                                                    s.fluid.spacing, n, kMaxParticles));
+}
+
+std::shared_ptr<const Object<Scene>> buildSceneSchema() {
+  return makeSchema<Scene>([](Object<Scene>& o) {
+    o.integer("version", &Scene::version, 1, "", Range::closed(1, 1), "Scene format version.")
+        .text("name", &Scene::name, "", "Shot name shown in logs and the manifest.")
+        .child("domain", &Scene::domain, domainSchema(), "The simulation box.")
+        .vec3("gravity", &Scene::gravity, {0, -9.81, 0}, "m/s^2", Range::closed(-1e4, 1e4),
+              "Gravitational acceleration (+Y is up).")
+        .child("fluid", &Scene::fluid, fluidSchema(), "The fluid and its initial blocks.")
+        .child("solver", &Scene::solver, solverSchema(), "Pressure solver and its parameters.")
+        .child("time", &Scene::time, timeSchema(), "Frames and time step control.")
+        .list("colliders", &Scene::colliders, colliderSchema(), 0, kUnbounded, "Solid objects in the fluid.")
+        .child("health", &Scene::health, healthSchema(), "Checks that stop a run that blows up.")
+        .child("cache", &Scene::cache, cacheSchema(), "What the particle cache stores.")
+        .child("surface", &Scene::surface, surfaceSchema(), "Surfacing defaults.")
+        .child("render", &Scene::render, renderSchema(), "Render defaults.")
+        .check(checkSceneGeometry);
+  });
+}
+
+/// Lattice count along one axis of [lo, hi]: cell-centred points lo + (i + 0.5) s.
+long latticeCount(double lo, double hi, double s) {
+  // The small tolerance keeps an extent of exactly k spacings at k points despite rounding.
+  return std::max(0L, long(std::floor((hi - lo) / s + 1e-6)));
+}
+
+template <class Fn>
+void forEachSeed(const Scene& scene, Fn&& fn) {
+  const double s = scene.fluid.spacing;
+  for (const FluidBlock& b : scene.fluid.blocks) {
+    Vec3d lo, hi;
+    blockBounds(b, lo, hi);
+    const long nx = latticeCount(lo[0], hi[0], s), ny = latticeCount(lo[1], hi[1], s),
+               nz = latticeCount(lo[2], hi[2], s);
+    for (long k = 0; k < nz; ++k)
+      for (long j = 0; j < ny; ++j)
+        for (long i = 0; i < nx; ++i) {
+          // Centre the lattice in the block so that the leftover is split evenly on both sides.
+          const Vec3d p{lo[0] + (hi[0] - lo[0] - double(nx) * s) / 2 + (double(i) + 0.5) * s,
+                        lo[1] + (hi[1] - lo[1] - double(ny) * s) / 2 + (double(j) + 0.5) * s,
+                        lo[2] + (hi[2] - lo[2] - double(nz) * s) / 2 + (double(k) + 0.5) * s};
+          if (b.shape == Shape::Sphere) {
+            double d2 = 0;
+            for (int a = 0; a < 3; ++a) d2 += (p[a] - b.center[a]) * (p[a] - b.center[a]);
+            if (d2 > b.radius * b.radius) continue;
+          }
+          fn(p, b);
+        }
+  }
+}
+
+}  // namespace
+
+bool Scene::hasCacheAttribute(CacheAttribute a) const {
+  return std::find(cache.attributes.begin(), cache.attributes.end(), a) != cache.attributes.end();
+}
+
+const Object<Scene>& sceneSchema() {
+  static const std::shared_ptr<const Object<Scene>> schema = buildSceneSchema();
+  return *schema;
+}
+
+size_t countInitialParticles(const Scene& scene) {
+  // Count without materialising the particles (validation runs this on every load).
+  size_t n = 0;
+  const double s = scene.fluid.spacing;
+  for (const FluidBlock& b : scene.fluid.blocks) {
+    if (b.shape == Shape::Box) {
+      size_t c = 1;
+      for (int a = 0; a < 3; ++a) c *= size_t(latticeCount(b.min[a], b.max[a], s));
+      n += c;
+    } else {
+      Scene single = scene;
+      single.fluid.blocks = {b};
+      forEachSeed(single, [&](const Vec3d&, const FluidBlock&) { ++n; });
+    }
+    if (n > kMaxParticles) return n;
+  }
+  return n;
+}
+
+SeededParticles seedParticles(const Scene& scene) {
+  SeededParticles out;
+  const size_t n = countInitialParticles(scene);
+  out.position.reserve(n);
+  out.velocity.reserve(n);
+  forEachSeed(scene, [&](const Vec3d& p, const FluidBlock& b) {
+    out.position.push_back({float(p[0]), float(p[1]), float(p[2])});
+    out.velocity.push_back({float(b.velocity[0]), float(b.velocity[1]), float(b.velocity[2])});
+  });
+  return out;
+}
+
+void applyOverride(Json& raw, const std::string& assignment) {
+  const auto eq = assignment.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw InputError("--set " + assignment + ": expected path=value, e.g. fluid.viscosity=0.02");
+  const std::string path = assignment.substr(0, eq);
+  const std::string valueText = assignment.substr(eq + 1);
+  Json value = Json::parse(valueText, nullptr, /*allow_exceptions=*/false);
+  if (value.is_discarded()) value = valueText;  // bare words are strings: solver.method=dfsph
+
+  Json* node = &raw;
+  std::stringstream segments(path);
+  std::string segment;
+  std::vector<std::string> parts;
+  while (std::getline(segments, segment, '.')) parts.push_back(segment);
+  for (size_t i = 0; i < parts.size(); ++i) {
+    const std::string& key = parts[i];
+    if (key.empty()) throw InputError("--set " + assignment + ": empty path segment");
+    const bool last = i + 1 == parts.size();
+    if (node->is_array()) {
+      const bool numeric = std::all_of(key.begin(), key.end(), [](char c) { return std::isdigit(c); });
+      if (!numeric || std::stoul(key) >= node->size())
+        throw InputError(fmt::format("--set {}: \"{}\" is not an index of an array of {} entries", assignment, key,
+                                     node->size()));
+      node = &(*node)[std::stoul(key)];
+    } else if (node->is_object() || node->is_null()) {
+      node = &(*node)[key];
+    } else {
+      throw InputError("--set " + assignment + ": \"" + key + "\" is below a value that is not an object");
+    }
+    if (last) *node = value;
+  }
+}
+
+Scene parseScene(const Json& raw, const std::string& source) {
+  Scene scene;
+  try {
+    sceneSchema().read(raw, "", scene);
+  } catch (const SchemaError& e) {
+    throw InputError(source + ": " + e.path() + ": " + e.message());
+  }
+  return scene;
+}
+
+Scene loadScene(const std::string& path, const std::vector<std::string>& overrides) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path + ": cannot open the scene file");
+  Json raw;
+  try {
+    raw = Json::parse(in, nullptr, true, /*ignore_comments=*/true);
+  } catch (const Json::parse_error& e) {
+    // nlohmann's text reads "[json.exception.parse_error.101] parse error at line 3, column 5: ...".
+    std::string what = e.what();
+    const auto pos = what.find("parse error");
+    throw InputError(path + ": invalid JSON: " + (pos == std::string::npos ? what : what.substr(pos)));
+  }
+  for (const auto& o : overrides) applyOverride(raw, o);
+  return parseScene(raw, overrides.empty() ? path : path + " (with --set overrides)");
+}
+
+Json sceneToJson(const Scene& scene) { return sceneSchema().write(scene); }
+
+std::string sceneReferenceMarkdown() {
+  std::vector<schema::FieldDoc> docs;
+  sceneSchema().document("", docs);
+  std::string out =
+      "# Scene format\n\n"
+      "<!-- Generated by `sphfx scene --schema` from the declarations in core/src/scene.cpp. Do not edit: "
+      "a test fails when this file is stale. -->\n\n"
+      "Scenes are JSON files in SI units; +Y is up. Every key is optional (its default is used) unless a "
+      "shape needs it; unknown keys are errors. `sphfx scene FILE` prints a scene resolved, and "
+      "`--set path=value` overrides any parameter from the command line (`--set fluid.blocks.0.max=[1,2,1]`).\n\n"
+      "| Parameter | Type | Default | Unit | Valid | Description |\n"
+      "|---|---|---|---|---|---|\n";
+  for (const auto& d : docs) {
+    auto cell = [](std::string s) {
+      std::string r;
+      for (char c : s) r += c == '|' ? std::string("\\|") : std::string(1, c);
+      return r;
+    };
+    out += fmt::format("| `{}` | {} | {} | {} | {} | {} |\n", d.path, d.type, cell(d.defaultValue), d.unit,
+                       cell(d.range), cell(d.description));
+  }
+  return out;
+}
+
+}  // namespace sphfx

@@ -1,0 +1,19 @@
+/* Binding points shared by C++ and GLSL: the one declaration of every buffer binding.
+ * C++ includes this file (sphfx/core/gpu_layout.h); every GLSL program gets it prepended
+ * (sphfx/core/shader_program.h). Keep it preprocessor-only so that both languages accept it.
+ * tests/core/gpu_layout_test.cpp checks these numbers against the linked programs. */
+#ifndef SPHFX_BINDINGS_H
+#define SPHFX_BINDINGS_H
+
+/* Uniform blocks */
+#define SPHFX_UBO_SELFTEST 0
+#define SPHFX_UBO_SIM_PARAMS 1
+#define SPHFX_UBO_RENDER_PARAMS 2
+
+/* Shader storage blocks: self-test (sphfx info --selftest, tests) */
+#define SPHFX_SSBO_SELFTEST_DATA 0
+#define SPHFX_SSBO_SELFTEST_COUNTERS 1
+
+/* Shader storage blocks: simulation (0-15) are declared by the simulation stage below this line. */
+
+#endif

@@ -1,0 +1,12 @@
+# Runs `sphfx scene SCENE` and checks: exit code 2, and stderr contains the text in EXPECTED.
+execute_process(COMMAND "${EXE}" scene "${SCENE}" RESULT_VARIABLE code OUTPUT_VARIABLE out ERROR_VARIABLE err)
+file(READ "${EXPECTED}" expected)
+string(STRIP "${expected}" expected)
+if(NOT code EQUAL 2)
+  message(FATAL_ERROR "expected exit code 2, got ${code}\nstderr: ${err}")
+endif()
+string(FIND "${err}" "${expected}" pos)
+if(pos EQUAL -1)
+  message(FATAL_ERROR "stderr lacks the expected text\n  expected: ${expected}\n  got: ${err}")
+endif()
+message(STATUS "ok: ${err}")

@@ -1,0 +1,138 @@
+// Scene parsing: valid scenes resolve and round-trip; errors name file, JSON path and expectation;
+// overrides go through the same validation; seeding matches the lattice count.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "sphfx/core/error.h"
+#include "sphfx/core/scene.h"
+
+using namespace sphfx;
+using Json = schema::Json;
+
+namespace {
+const std::string kDir = SPHFX_SOURCE_DIR;
+
+Json minimal() {
+  return Json::parse(R"({"fluid": {"blocks": [{"min": [0,0,0], "max": [0.5,0.5,0.5]}]}})");
+}
+
+std::string errorOf(const Json& raw) {
+  try {
+    parseScene(raw, "x.json");
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+}  // namespace
+
+TEST(Scene, DefaultsFillEverything) {
+  const Scene s = parseScene(minimal(), "x.json");
+  EXPECT_EQ(s.solver.method, Solver::WCSPH);
+  EXPECT_EQ(s.time.mode, TimeStepMode::Cfl);
+  EXPECT_DOUBLE_EQ(s.fluid.restDensity, 1000);
+  EXPECT_DOUBLE_EQ(s.gravity[1], -9.81);
+  EXPECT_FALSE(s.render.camera.has_value());
+  EXPECT_TRUE(s.colliders.empty());
+}
+
+TEST(Scene, ShippedAndTestScenesRoundTrip) {
+  for (const std::string file : {"/scenes/dam_break.json", "/scenes/hydrostatic.json", "/scenes/box_emerge.json",
+                                 "/tests/scenes/good/everything.json"}) {
+    SCOPED_TRACE(file);
+    const Scene a = loadScene(kDir + file);
+    const Json resolved = sceneToJson(a);
+    const Scene b = parseScene(resolved, "resolved");
+    EXPECT_EQ(resolved, sceneToJson(b));  // a fixed point: resolving twice changes nothing
+  }
+}
+
+TEST(Scene, EverythingSceneValuesArrive) {
+  const Scene s = loadScene(kDir + "/tests/scenes/good/everything.json");
+  EXPECT_EQ(s.solver.method, Solver::DFSPH);
+  EXPECT_EQ(s.time.startFrame, 1001);
+  ASSERT_EQ(s.colliders.size(), 2u);
+  EXPECT_EQ(s.colliders[0].shape, Shape::Sphere);
+  EXPECT_DOUBLE_EQ(s.colliders[0].keyframes[1].offset[0], -1);
+  EXPECT_TRUE(s.hasCacheAttribute(CacheAttribute::Id));
+  EXPECT_FALSE(s.hasCacheAttribute(CacheAttribute::Pressure));
+  ASSERT_TRUE(s.render.camera.has_value());
+  EXPECT_EQ(s.render.camera->keyframes.size(), 2u);
+  EXPECT_EQ(s.render.format, ImageFormat::Exr);
+  EXPECT_DOUBLE_EQ(s.frameTime(1001 + 12), 0.5);
+}
+
+TEST(Scene, ErrorNamesFilePathAndExpectation) {
+  Json raw = minimal();
+  raw["fluid"]["blocks"][0]["min"] = "abc";
+  EXPECT_EQ(errorOf(raw), "x.json: /fluid/blocks/0/min: expected an array of 3 numbers, got \"abc\"");
+}
+
+TEST(Scene, UnknownKeySuggestsNearMiss) {
+  Json raw = minimal();
+  raw["gravty"] = Json::array({0, -9.81, 0});
+  EXPECT_EQ(errorOf(raw), "x.json: /gravty: unknown key \"gravty\" (did you mean \"gravity\"?)");
+  raw = minimal();
+  raw["zzzzzz"] = 1;
+  EXPECT_NE(errorOf(raw).find("valid keys: version, name, domain"), std::string::npos);
+}
+
+TEST(Scene, RangesAreEnforced) {
+  Json raw = minimal();
+  raw["solver"]["gamma"] = 20;
+  EXPECT_EQ(errorOf(raw), "x.json: /solver/gamma: expected a number in [1, 10], got 20");
+  raw = minimal();
+  raw["render"]["samples"] = 0;
+  EXPECT_EQ(errorOf(raw), "x.json: /render/samples: expected an integer in [1, 16], got 0");
+}
+
+TEST(Scene, OverridesAreValidatedTheSameWay) {
+  Json raw = minimal();
+  applyOverride(raw, "fluid.viscosity=0.02");
+  applyOverride(raw, "solver.method=dfsph");  // a bare word is a string
+  applyOverride(raw, "fluid.blocks.0.max=[0.4,0.4,0.4]");
+  const Scene s = parseScene(raw, "x.json");
+  EXPECT_DOUBLE_EQ(s.fluid.viscosity, 0.02);
+  EXPECT_EQ(s.solver.method, Solver::DFSPH);
+  EXPECT_DOUBLE_EQ(s.fluid.blocks[0].max[0], 0.4);
+
+  applyOverride(raw, "fluid.viscosity=\"lots\"");
+  EXPECT_EQ(errorOf(raw), "x.json: /fluid/viscosity: expected a number, got \"lots\"");
+  EXPECT_THROW(applyOverride(raw, "fluid.blocks.3.min=[0,0,0]"), InputError);
+  EXPECT_THROW(applyOverride(raw, "novalue"), InputError);
+  EXPECT_THROW(applyOverride(raw, "fluid.viscosity.x=1"), InputError);
+}
+
+TEST(Scene, SeedingMatchesLatticeCount) {
+  Json raw = minimal();
+  raw["fluid"]["spacing"] = 0.1;
+  Scene s = parseScene(raw, "x.json");
+  auto seeds = seedParticles(s);
+  EXPECT_EQ(seeds.position.size(), 125u);  // 5 x 5 x 5
+  EXPECT_EQ(countInitialParticles(s), 125u);
+  EXPECT_NEAR(seeds.position[0][0], 0.05, 1e-6);  // cell-centred
+
+  // A sphere of radius R at spacing d holds about (4/3 pi R^3) / d^3 particles.
+  raw["fluid"]["blocks"][0] = Json::parse(R"({"shape": "sphere", "center": [0.5,0.5,0.5], "radius": 0.4})");
+  raw["fluid"]["spacing"] = 0.02;
+  s = parseScene(raw, "x.json");
+  const double expected = 4.0 / 3.0 * M_PI * std::pow(0.4, 3) / std::pow(0.02, 3);
+  EXPECT_NEAR(double(countInitialParticles(s)), expected, 0.02 * expected);
+  EXPECT_EQ(seedParticles(s).position.size(), countInitialParticles(s));
+  for (const auto& p : seedParticles(s).position) {
+    const double r = std::hypot(p[0] - 0.5, p[1] - 0.5, p[2] - 0.5);
+    ASSERT_LE(r, 0.4 + 1e-6);
+  }
+}
+
+TEST(Scene, SyntaxErrorNamesFileAndLine) {
+  try {
+    loadScene(kDir + "/tests/scenes/bad/syntax_error.json");
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("syntax_error.json: invalid JSON: parse error at line 1"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_THROW(loadScene(kDir + "/tests/scenes/does_not_exist.json"), InputError);
+}
