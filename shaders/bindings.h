@@ -14,6 +14,10 @@
 #define SPHFX_SSBO_SELFTEST_DATA 0
 #define SPHFX_SSBO_SELFTEST_COUNTERS 1
 
-/* Shader storage blocks: simulation (0-15) are declared by the simulation stage below this line. */
+/* Each stage declares its own binding points in its own file, included here so that C++ and GLSL both
+ * see every binding through this one header. Binding numbers may overlap between stages (different
+ * programs), never within one. */
+#include "sim_bindings.h"
+#include "render_bindings.h"
 
 #endif
