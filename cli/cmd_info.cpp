@@ -37,7 +37,8 @@ void addInfoCommand(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("info", "Print the OpenGL backends tried and the one chosen");
   auto gl = addGLOptions(cmd);
   auto selftest = std::make_shared<bool>(false);
-  cmd->add_flag("--selftest", *selftest, "Also run a compute self-test (SSBOs, atomics, includes) and compare with the CPU");
+  cmd->add_flag("--selftest", *selftest,
+                "Also run a compute self-test (SSBOs, atomics, includes) and compare with the CPU");
   cmd->callback([gl, selftest] {
     auto ctx = GLContext::create(*gl);
     printInfo(*ctx);

@@ -9,7 +9,8 @@
 namespace sphfx::cli {
 
 void addSceneCommand(CLI::App& app) {
-  CLI::App* cmd = app.add_subcommand("scene", "Validate a scene and print it resolved (every default filled in)");
+  CLI::App* cmd =
+      app.add_subcommand("scene", "Validate a scene and print it resolved (every default filled in)");
   auto file = std::make_shared<std::string>();
   auto schemaFlag = std::make_shared<bool>(false);
   cmd->add_option("SCENE", *file, "Scene JSON file");
@@ -23,7 +24,8 @@ void addSceneCommand(CLI::App& app) {
     if (file->empty()) throw InputError("scene: expected a SCENE file (or --schema)");
     const Scene scene = loadScene(*file, *sets);
     std::printf("%s\n", sceneToJson(scene).dump(2).c_str());
-    std::fprintf(stderr, "sphfx: %s: valid; %zu particles, kernel radius %g m, particle mass %g kg, %d frames\n",
+    std::fprintf(stderr,
+                 "sphfx: %s: valid; %zu particles, kernel radius %g m, particle mass %g kg, %d frames\n",
                  file->c_str(), countInitialParticles(scene), scene.kernelRadius(), scene.particleMass(),
                  scene.time.endFrame - scene.time.startFrame + 1);
   });

@@ -14,7 +14,9 @@ int main(int argc, char** argv) {
   app.add_flag("-v,--verbose", verbose, "More log output");
   app.add_flag("-q,--quiet", quiet, "Errors only");
   app.parse_complete_callback([&] {
-    sphfx::setLogLevel(quiet ? sphfx::LogLevel::Quiet : verbose ? sphfx::LogLevel::Verbose : sphfx::LogLevel::Info);
+    sphfx::setLogLevel(quiet     ? sphfx::LogLevel::Quiet
+                       : verbose ? sphfx::LogLevel::Verbose
+                                 : sphfx::LogLevel::Info);
   });
 
   sphfx::cli::addInfoCommand(app);

@@ -5,8 +5,9 @@ namespace sphfx::cli {
 std::shared_ptr<GLContextOptions> addGLOptions(CLI::App* cmd) {
   auto options = std::make_shared<GLContextOptions>();
   auto name = std::make_shared<std::string>("auto");
-  cmd->add_option("--gl", *name, "OpenGL backend: auto (EGL device, then EGL surfaceless, then OSMesa), "
-                                 "egl-device, egl-surfaceless or osmesa")
+  cmd->add_option("--gl", *name,
+                  "OpenGL backend: auto (EGL device, then EGL surfaceless, then OSMesa), "
+                  "egl-device, egl-surfaceless or osmesa")
       ->check(CLI::IsMember(glBackendNames()))
       ->each([options](const std::string& v) { options->backend = parseGLBackend(v); });
   cmd->add_flag("--gl-debug", options->debug,

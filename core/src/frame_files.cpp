@@ -63,8 +63,8 @@ void writeFileAtomically(const std::string& path, const std::function<void(const
   std::error_code ec;
   if (target.has_parent_path()) fs::create_directories(target.parent_path(), ec);
   // Hidden, unique per process and call, and in the same directory so that rename() is atomic.
-  const fs::path tmp = target.parent_path() / fmt::format(".{}.tmp.{}.{}", target.filename().string(), getpid(),
-                                                          counter.fetch_add(1));
+  const fs::path tmp = target.parent_path() / fmt::format(".{}.tmp.{}.{}", target.filename().string(),
+                                                          getpid(), counter.fetch_add(1));
   try {
     write(tmp.string());
     // Flush file data before the rename makes the file visible, so a power cut never leaves a named,

@@ -20,17 +20,28 @@ constexpr int kMinMajor = 4, kMinMinor = 3;
 
 std::string eglErrorText(EGLint code) {
   switch (code) {
-    case EGL_SUCCESS: return "EGL_SUCCESS";
-    case EGL_NOT_INITIALIZED: return "EGL_NOT_INITIALIZED";
-    case EGL_BAD_ACCESS: return "EGL_BAD_ACCESS";
-    case EGL_BAD_ALLOC: return "EGL_BAD_ALLOC";
-    case EGL_BAD_ATTRIBUTE: return "EGL_BAD_ATTRIBUTE";
-    case EGL_BAD_CONFIG: return "EGL_BAD_CONFIG";
-    case EGL_BAD_CONTEXT: return "EGL_BAD_CONTEXT";
-    case EGL_BAD_DISPLAY: return "EGL_BAD_DISPLAY";
-    case EGL_BAD_MATCH: return "EGL_BAD_MATCH";
-    case EGL_BAD_PARAMETER: return "EGL_BAD_PARAMETER";
-    default: return fmt::format("EGL error 0x{:x}", code);
+    case EGL_SUCCESS:
+      return "EGL_SUCCESS";
+    case EGL_NOT_INITIALIZED:
+      return "EGL_NOT_INITIALIZED";
+    case EGL_BAD_ACCESS:
+      return "EGL_BAD_ACCESS";
+    case EGL_BAD_ALLOC:
+      return "EGL_BAD_ALLOC";
+    case EGL_BAD_ATTRIBUTE:
+      return "EGL_BAD_ATTRIBUTE";
+    case EGL_BAD_CONFIG:
+      return "EGL_BAD_CONFIG";
+    case EGL_BAD_CONTEXT:
+      return "EGL_BAD_CONTEXT";
+    case EGL_BAD_DISPLAY:
+      return "EGL_BAD_DISPLAY";
+    case EGL_BAD_MATCH:
+      return "EGL_BAD_MATCH";
+    case EGL_BAD_PARAMETER:
+      return "EGL_BAD_PARAMETER";
+    default:
+      return fmt::format("EGL error 0x{:x}", code);
   }
 }
 
@@ -43,7 +54,7 @@ bool hasExtension(const char* list, const char* name) {
 }
 
 void GLAD_API_PTR debugCallback(GLenum, GLenum type, GLuint, GLenum severity, GLsizei, const GLchar* message,
-                            const void*) {
+                                const void*) {
   if (severity == GL_DEBUG_SEVERITY_NOTIFICATION) return logVerbose(std::string("GL: ") + message);
   if (type == GL_DEBUG_TYPE_ERROR || severity == GL_DEBUG_SEVERITY_HIGH)
     return logWarning(std::string("GL debug: ") + message);
@@ -82,9 +93,9 @@ class EglContext final : public GLContext {
       return why;
     }
     const char* ext = eglQueryString(display_, EGL_EXTENSIONS);
-    if (!hasExtension(ext, "EGL_KHR_surfaceless_context"))
-      return "display lacks EGL_KHR_surfaceless_context";
-    if (!eglBindAPI(EGL_OPENGL_API)) return "eglBindAPI(EGL_OPENGL_API) failed: " + eglErrorText(eglGetError());
+    if (!hasExtension(ext, "EGL_KHR_surfaceless_context")) return "display lacks EGL_KHR_surfaceless_context";
+    if (!eglBindAPI(EGL_OPENGL_API))
+      return "eglBindAPI(EGL_OPENGL_API) failed: " + eglErrorText(eglGetError());
 
     EGLConfig config = nullptr;
     const EGLint configAttribs[] = {EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_NONE};
@@ -107,11 +118,11 @@ class EglContext final : public GLContext {
       context_ = eglCreateContext(display_, config, EGL_NO_CONTEXT, contextAttribs);
       if (context_ != EGL_NO_CONTEXT) break;
     }
-    if (context_ == EGL_NO_CONTEXT)
-      return "no OpenGL >= 4.3 core context: " + eglErrorText(eglGetError());
+    if (context_ == EGL_NO_CONTEXT) return "no OpenGL >= 4.3 core context: " + eglErrorText(eglGetError());
     if (!eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, context_))
       return "eglMakeCurrent failed: " + eglErrorText(eglGetError());
-    if (!gladLoadGL(reinterpret_cast<GLADloadfunc>(eglGetProcAddress))) return "glad could not load GL functions";
+    if (!gladLoadGL(reinterpret_cast<GLADloadfunc>(eglGetProcAddress)))
+      return "glad could not load GL functions";
     return checkVersion();
   }
 
@@ -124,7 +135,8 @@ class EglContext final : public GLContext {
 /// software device (EGL_MESA_device_software); that is the surfaceless backend's job, so it is skipped.
 std::unique_ptr<EglContext> tryEglDevice(bool debug, std::string& why) {
   const char* clientExt = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
-  if (!hasExtension(clientExt, "EGL_EXT_platform_device") || !hasExtension(clientExt, "EGL_EXT_device_enumeration")) {
+  if (!hasExtension(clientExt, "EGL_EXT_platform_device") ||
+      !hasExtension(clientExt, "EGL_EXT_device_enumeration")) {
     why = "EGL lacks EGL_EXT_platform_device / EGL_EXT_device_enumeration";
     return nullptr;
   }
@@ -176,8 +188,9 @@ std::unique_ptr<EglContext> tryEglSurfaceless(bool debug, std::string& why) {
   }
   auto getPlatformDisplay =
       reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(eglGetProcAddress("eglGetPlatformDisplayEXT"));
-  EGLDisplay display = getPlatformDisplay ? getPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr)
-                                          : EGL_NO_DISPLAY;
+  EGLDisplay display = getPlatformDisplay
+                           ? getPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr)
+                           : EGL_NO_DISPLAY;
   if (display == EGL_NO_DISPLAY) {
     why = "no surfaceless display: " + eglErrorText(eglGetError());
     return nullptr;
@@ -200,7 +213,9 @@ using OSMesaDestroyContextFn = void (*)(OSMesaContextHandle);
 using OSMesaGetProcAddressFn = GLADapiproc (*)(const char*);
 
 OSMesaGetProcAddressFn gOsmesaGetProcAddress = nullptr;
-GLADapiproc osmesaLoad(const char* name) { return gOsmesaGetProcAddress(name); }
+GLADapiproc osmesaLoad(const char* name) {
+  return gOsmesaGetProcAddress(name);
+}
 
 class OSMesaContext final : public GLContext {
  public:
@@ -213,15 +228,24 @@ class OSMesaContext final : public GLContext {
     for (const char* name : {"libOSMesa.so.8", "libOSMesa.so.6", "libOSMesa.so"})
       if ((library_ = dlopen(name, RTLD_NOW | RTLD_LOCAL)) != nullptr) break;
     if (!library_) return "libOSMesa not found (Debian: libosmesa6; removed from Mesa 25.1)";
-    auto create = reinterpret_cast<OSMesaCreateContextAttribsFn>(dlsym(library_, "OSMesaCreateContextAttribs"));
+    auto create =
+        reinterpret_cast<OSMesaCreateContextAttribsFn>(dlsym(library_, "OSMesaCreateContextAttribs"));
     auto makeCurrent = reinterpret_cast<OSMesaMakeCurrentFn>(dlsym(library_, "OSMesaMakeCurrent"));
     destroy_ = reinterpret_cast<OSMesaDestroyContextFn>(dlsym(library_, "OSMesaDestroyContext"));
     gOsmesaGetProcAddress = reinterpret_cast<OSMesaGetProcAddressFn>(dlsym(library_, "OSMesaGetProcAddress"));
     if (!create || !makeCurrent || !destroy_ || !gOsmesaGetProcAddress)
       return "libOSMesa lacks OSMesaCreateContextAttribs (too old)";
     for (const auto& [maj, min] : {std::pair{4, 5}, std::pair{4, 3}}) {
-      const int attribs[] = {kOsmesaFormat,      kOsmesaRgba, kOsmesaDepthBits, 24, kOsmesaProfile,
-                             kOsmesaCoreProfile, kOsmesaMajor, maj,             kOsmesaMinor, min,
+      const int attribs[] = {kOsmesaFormat,
+                             kOsmesaRgba,
+                             kOsmesaDepthBits,
+                             24,
+                             kOsmesaProfile,
+                             kOsmesaCoreProfile,
+                             kOsmesaMajor,
+                             maj,
+                             kOsmesaMinor,
+                             min,
                              0};
       context_ = create(attribs, nullptr);
       if (context_) break;
@@ -242,14 +266,17 @@ class OSMesaContext final : public GLContext {
 
 std::unique_ptr<GLContext> tryBackend(GLBackend backend, bool debug, std::string& why) {
   switch (backend) {
-    case GLBackend::EglDevice: return tryEglDevice(debug, why);
-    case GLBackend::EglSurfaceless: return tryEglSurfaceless(debug, why);
+    case GLBackend::EglDevice:
+      return tryEglDevice(debug, why);
+    case GLBackend::EglSurfaceless:
+      return tryEglSurfaceless(debug, why);
     case GLBackend::OSMesa: {
       auto ctx = std::make_unique<OSMesaContext>();
       why = ctx->open();
       return why.empty() ? std::move(ctx) : nullptr;
     }
-    case GLBackend::Auto: break;
+    case GLBackend::Auto:
+      break;
   }
   why = "not a backend";
   return nullptr;
@@ -284,15 +311,21 @@ GLInfo queryInfo() {
 
 std::string toString(GLBackend backend) {
   switch (backend) {
-    case GLBackend::Auto: return "auto";
-    case GLBackend::EglDevice: return "egl-device";
-    case GLBackend::EglSurfaceless: return "egl-surfaceless";
-    case GLBackend::OSMesa: return "osmesa";
+    case GLBackend::Auto:
+      return "auto";
+    case GLBackend::EglDevice:
+      return "egl-device";
+    case GLBackend::EglSurfaceless:
+      return "egl-surfaceless";
+    case GLBackend::OSMesa:
+      return "osmesa";
   }
   return "?";
 }
 
-std::vector<std::string> glBackendNames() { return {"auto", "egl-device", "egl-surfaceless", "osmesa"}; }
+std::vector<std::string> glBackendNames() {
+  return {"auto", "egl-device", "egl-surfaceless", "osmesa"};
+}
 
 GLBackend parseGLBackend(const std::string& name) {
   for (GLBackend b : {GLBackend::Auto, GLBackend::EglDevice, GLBackend::EglSurfaceless, GLBackend::OSMesa})
@@ -326,7 +359,9 @@ std::unique_ptr<GLContext> GLContext::create(const GLContextOptions& options) {
   throw GLError(message);
 }
 
-GLContext::~GLContext() { gDebugChecks = false; }
+GLContext::~GLContext() {
+  gDebugChecks = false;
+}
 
 void GLContext::finishSetup(GLBackend backend, std::vector<GLAttempt> attempts, bool debug) {
   backend_ = backend;
@@ -341,7 +376,9 @@ void GLContext::finishSetup(GLBackend backend, std::vector<GLAttempt> attempts, 
   }
 }
 
-bool glDebugChecksEnabled() { return gDebugChecks; }
+bool glDebugChecksEnabled() {
+  return gDebugChecks;
+}
 
 void glCheck(const char* where) {
   if (!gDebugChecks) return;

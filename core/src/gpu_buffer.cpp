@@ -7,7 +7,9 @@
 
 namespace sphfx {
 
-GpuBuffer::GpuBuffer(size_t bytes) { resize(bytes); }
+GpuBuffer::GpuBuffer(size_t bytes) {
+  resize(bytes);
+}
 
 GpuBuffer::~GpuBuffer() {
   if (id_) glDeleteBuffers(1, &id_);
@@ -57,8 +59,12 @@ void GpuBuffer::fill(uint32_t value) {
   glCheck("GpuBuffer::fill");
 }
 
-void GpuBuffer::bindStorage(uint32_t binding) const { glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, id_); }
+void GpuBuffer::bindStorage(uint32_t binding) const {
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, id_);
+}
 
-void GpuBuffer::bindUniform(uint32_t binding) const { glBindBufferBase(GL_UNIFORM_BUFFER, binding, id_); }
+void GpuBuffer::bindUniform(uint32_t binding) const {
+  glBindBufferBase(GL_UNIFORM_BUFFER, binding, id_);
+}
 
 }  // namespace sphfx

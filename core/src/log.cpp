@@ -2,17 +2,21 @@
 
 #include <unistd.h>
 
+#include <fmt/format.h>
 #include <cmath>
 #include <cstdio>
-#include <fmt/format.h>
 
 namespace sphfx {
 namespace {
 LogLevel gLevel = LogLevel::Info;
 }  // namespace
 
-void setLogLevel(LogLevel level) { gLevel = level; }
-LogLevel logLevel() { return gLevel; }
+void setLogLevel(LogLevel level) {
+  gLevel = level;
+}
+LogLevel logLevel() {
+  return gLevel;
+}
 
 void logInfo(std::string_view message) {
   if (gLevel >= LogLevel::Info) std::fprintf(stderr, "sphfx: %.*s\n", int(message.size()), message.data());
@@ -22,8 +26,7 @@ void logWarning(std::string_view message) {
     std::fprintf(stderr, "sphfx: warning: %.*s\n", int(message.size()), message.data());
 }
 void logVerbose(std::string_view message) {
-  if (gLevel >= LogLevel::Verbose)
-    std::fprintf(stderr, "sphfx: %.*s\n", int(message.size()), message.data());
+  if (gLevel >= LogLevel::Verbose) std::fprintf(stderr, "sphfx: %.*s\n", int(message.size()), message.data());
 }
 
 std::string formatDuration(double seconds) {
@@ -71,7 +74,8 @@ void Progress::print(int64_t done, std::string_view detail, bool final) {
   const std::string line = fmt::format("{} {}/{} ({}%) {}{}{}", label_, done, total_, pct,
                                        formatDuration(elapsed), eta, detail.empty() ? "" : " | ");
   if (tty_)
-    std::fprintf(stderr, "\r\033[K%s%.*s%s", line.c_str(), int(detail.size()), detail.data(), final ? "\n" : "");
+    std::fprintf(stderr, "\r\033[K%s%.*s%s", line.c_str(), int(detail.size()), detail.data(),
+                 final ? "\n" : "");
   else
     std::fprintf(stderr, "%s%.*s\n", line.c_str(), int(detail.size()), detail.data());
   std::fflush(stderr);

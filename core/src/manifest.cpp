@@ -13,7 +13,9 @@ namespace fs = std::filesystem;
 
 namespace sphfx {
 
-std::string manifestPath(const std::string& shotDir) { return (fs::path(shotDir) / "manifest.json").string(); }
+std::string manifestPath(const std::string& shotDir) {
+  return (fs::path(shotDir) / "manifest.json").string();
+}
 
 ManifestJson readManifest(const std::string& shotDir) {
   const std::string path = manifestPath(shotDir);

@@ -23,7 +23,8 @@ std::string meshPath(const std::string& shotDir, int frame) {
 std::string surfacePath(const std::string& shotDir, int frame) {
   return framePath((fs::path(shotDir) / "surface").string(), "surface", frame, "vdb");
 }
-std::string renderPath(const std::string& shotDir, const std::string& source, int frame, const std::string& ext) {
+std::string renderPath(const std::string& shotDir, const std::string& source, int frame,
+                       const std::string& ext) {
   return framePath((fs::path(shotDir) / "render").string(), source, frame, ext);
 }
 
@@ -85,7 +86,8 @@ size_t typeSize(const std::string& t, const std::string& path) {
 double readBinary(std::istream& in, const std::string& t, const std::string& path) {
   unsigned char b[8] = {};
   const size_t n = typeSize(t, path);
-  if (!in.read(reinterpret_cast<char*>(b), std::streamsize(n))) throw InputError(path + ": PLY data ends early");
+  if (!in.read(reinterpret_cast<char*>(b), std::streamsize(n)))
+    throw InputError(path + ": PLY data ends early");
   auto as = [&](auto v) {
     std::memcpy(&v, b, sizeof(v));
     return double(v);
@@ -104,8 +106,10 @@ void computeNormals(TriangleMesh& m) {
   m.normals.assign(m.positions.size(), {0, 0, 0});
   for (const auto& t : m.triangles) {
     const auto &a = m.positions[t[0]], &b = m.positions[t[1]], &c = m.positions[t[2]];
-    const float e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-    const float n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+    const float e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]},
+                e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    const float n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                        e1[0] * e2[1] - e1[1] * e2[0]};
     for (uint32_t i : t)
       for (int k = 0; k < 3; ++k) m.normals[i][k] += n[k];
   }
@@ -184,7 +188,8 @@ TriangleMesh readPly(const std::string& path) {
   for (const auto& t : mesh.triangles)
     for (uint32_t i : t)
       if (i >= mesh.positions.size())
-        throw InputError(fmt::format("{}: face index {} is past the {} vertices", path, i, mesh.positions.size()));
+        throw InputError(
+            fmt::format("{}: face index {} is past the {} vertices", path, i, mesh.positions.size()));
   if (!hasNormals) computeNormals(mesh);
   return mesh;
 }

@@ -30,8 +30,8 @@ void addAttribute(vp::PointDataGrid& grid, const openvdb::tools::PointIndexGrid&
   std::vector<T> converted(values.begin(), values.end());
   vp::appendAttribute<T>(grid.tree(), name);
   Wrapper<T> wrapper(converted);
-  vp::populateAttribute<vp::PointDataTree, openvdb::tools::PointIndexTree, Wrapper<T>>(grid.tree(), index.tree(),
-                                                                                       name, wrapper);
+  vp::populateAttribute<vp::PointDataTree, openvdb::tools::PointIndexTree, Wrapper<T>>(
+      grid.tree(), index.tree(), name, wrapper);
 }
 
 std::vector<openvdb::Vec3f> toVdb(const std::vector<std::array<float, 3>>& v) {
@@ -50,7 +50,8 @@ void checkLengths(const std::string& path, const ParticleFrame& f) {
 template <class T>
 T metaValue(const openvdb::GridBase& grid, const char* name, const std::string& path) {
   auto m = grid.getMetadata<openvdb::TypedMetadata<T>>(name);
-  if (!m) throw InputError(path + ": not an sphfx particle cache (no \"" + std::string(name) + "\" metadata)");
+  if (!m)
+    throw InputError(path + ": not an sphfx particle cache (no \"" + std::string(name) + "\" metadata)");
   return m->value();
 }
 
@@ -70,7 +71,8 @@ void writeParticleCache(const std::string& path, const ParticleFrame& f) {
                            : positions.empty()   ? 1.0
                                                  : double(vp::computeVoxelSize(positionWrapper, 8));
   auto transform = openvdb::math::Transform::createLinearTransform(voxelSize);
-  auto index = openvdb::tools::createPointIndexGrid<openvdb::tools::PointIndexGrid>(positionWrapper, *transform);
+  auto index =
+      openvdb::tools::createPointIndexGrid<openvdb::tools::PointIndexGrid>(positionWrapper, *transform);
   // Positions are stored uncompressed (NullCodec): the surfacing stage and the determinism tests need the
   // simulator's floats back, bit for bit up to the voxel-offset split.
   auto grid = vp::createPointDataGrid<vp::NullCodec, vp::PointDataGrid>(*index, positionWrapper, *transform);
@@ -117,7 +119,8 @@ ParticleFrame readParticleCache(const std::string& path) {
   if (!grid) throw InputError(path + ": grid \"points\" is not a PointDataGrid");
   const int version = metaValue<int32_t>(*grid, "sphfx_cache_version", path);
   if (version != kParticleCacheVersion)
-    throw InputError(fmt::format("{}: cache version {} is not the supported {}", path, version, kParticleCacheVersion));
+    throw InputError(
+        fmt::format("{}: cache version {} is not the supported {}", path, version, kParticleCacheVersion));
 
   ParticleFrame f;
   f.frame = metaValue<int32_t>(*grid, "frame", path);

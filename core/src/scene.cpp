@@ -24,31 +24,33 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr size_t kUnbounded = std::numeric_limits<size_t>::max();
 constexpr size_t kMaxParticles = 200'000'000;
 
-std::string vecText(const Vec3d& v) { return fmt::format("[{}, {}, {}]", v[0], v[1], v[2]); }
+std::string vecText(const Vec3d& v) {
+  return fmt::format("[{}, {}, {}]", v[0], v[1], v[2]);
+}
 
 /// Boxes need min/max, spheres need center/radius; a key of the other shape is an error rather than
 /// silently ignored.
 template <class T>
 void checkShape(const T& value, const Json& raw, const std::string& path) {
   const bool box = value.shape == Shape::Box;
-  const std::vector<std::string> needed = box ? std::vector<std::string>{"min", "max"}
-                                              : std::vector<std::string>{"center", "radius"};
-  const std::vector<std::string> unused = box ? std::vector<std::string>{"center", "radius"}
-                                              : std::vector<std::string>{"min", "max"};
+  const std::vector<std::string> needed =
+      box ? std::vector<std::string>{"min", "max"} : std::vector<std::string>{"center", "radius"};
+  const std::vector<std::string> unused =
+      box ? std::vector<std::string>{"center", "radius"} : std::vector<std::string>{"min", "max"};
   const std::string shapeName = box ? "box" : "sphere";
   for (const auto& key : needed)
-    if (!raw.contains(key))
-      throw SchemaError(path, "a " + shapeName + " needs \"" + key + "\"");
+    if (!raw.contains(key)) throw SchemaError(path, "a " + shapeName + " needs \"" + key + "\"");
   for (const auto& key : unused)
     if (raw.contains(key))
       throw SchemaError(schema::childPath(path, key), "not used by shape \"" + shapeName + "\"");
   if (box)
     for (int a = 0; a < 3; ++a)
       if (!(value.min[a] < value.max[a]))
-        throw SchemaError(schema::childPath(path, "max"),
-                          "expected max > min on every axis, got min " + vecText(value.min) + ", max " +
-                              vecText(value.max));
-  if (!box && !(value.radius > 0)) throw SchemaError(schema::childPath(path, "radius"), "expected a radius > 0");
+        throw SchemaError(schema::childPath(path, "max"), "expected max > min on every axis, got min " +
+                                                              vecText(value.min) + ", max " +
+                                                              vecText(value.max));
+  if (!box && !(value.radius > 0))
+    throw SchemaError(schema::childPath(path, "radius"), "expected a radius > 0");
 }
 
 template <class T>
@@ -63,12 +65,14 @@ bool isSphere(const T& v) {
 std::shared_ptr<const Object<Domain>> domainSchema() {
   return makeSchema<Domain>([](Object<Domain>& o) {
     o.vec3("min", &Domain::min, {0, 0, 0}, "m", Range::any(), "Lower corner of the domain box (solid walls).")
-        .vec3("max", &Domain::max, {1, 1, 1}, "m", Range::any(), "Upper corner of the domain box (solid walls).")
+        .vec3("max", &Domain::max, {1, 1, 1}, "m", Range::any(),
+              "Upper corner of the domain box (solid walls).")
         .check([](const Domain& d, const Json&, const std::string& path) {
           for (int a = 0; a < 3; ++a)
             if (!(d.min[a] < d.max[a]))
-              throw SchemaError(schema::childPath(path, "max"), "expected max > min on every axis, got min " +
-                                                                    vecText(d.min) + ", max " + vecText(d.max));
+              throw SchemaError(
+                  schema::childPath(path, "max"),
+                  "expected max > min on every axis, got min " + vecText(d.min) + ", max " + vecText(d.max));
         });
   });
 }
@@ -113,11 +117,13 @@ std::shared_ptr<const Object<Fluid>> fluidSchema() {
 
 std::shared_ptr<const Object<SolverSettings>> solverSchema() {
   return makeSchema<SolverSettings>([](Object<SolverSettings>& o) {
-    o.choice("method", &SolverSettings::method, Solver::WCSPH, {{"wcsph", Solver::WCSPH}, {"dfsph", Solver::DFSPH}},
+    o.choice("method", &SolverSettings::method, Solver::WCSPH,
+             {{"wcsph", Solver::WCSPH}, {"dfsph", Solver::DFSPH}},
              "Pressure solver: weakly compressible SPH or divergence-free SPH (Bender & Koschier).")
-        .choice("eos", &SolverSettings::eos, EquationOfState::Tait,
-                {{"linear", EquationOfState::Linear}, {"tait", EquationOfState::Tait}},
-                "WCSPH equation of state: the seed's p = k (rho - rho0), or Tait with speed_of_sound and gamma.")
+        .choice(
+            "eos", &SolverSettings::eos, EquationOfState::Tait,
+            {{"linear", EquationOfState::Linear}, {"tait", EquationOfState::Tait}},
+            "WCSPH equation of state: the seed's p = k (rho - rho0), or Tait with speed_of_sound and gamma.")
         .number("stiffness", &SolverSettings::stiffness, 1000, "m^2/s^2", Range{0, 1e9, true, false},
                 "Linear EOS stiffness k.")
         .number("speed_of_sound", &SolverSettings::speedOfSound, 30, "m/s", Range{0, 1e5, true, false},
@@ -127,7 +133,8 @@ std::shared_ptr<const Object<SolverSettings>> solverSchema() {
                 "Kernel support radius h as a multiple of the particle spacing.")
         .number("max_density_error", &SolverSettings::maxDensityError, 0.001, "", Range{0, 0.1, true, false},
                 "DFSPH: average density error tolerance, as a fraction of rest density.")
-        .number("max_divergence_error", &SolverSettings::maxDivergenceError, 0.01, "1/s", Range{0, 10, true, false},
+        .number("max_divergence_error", &SolverSettings::maxDivergenceError, 0.01, "1/s",
+                Range{0, 10, true, false},
                 "DFSPH: average divergence error tolerance, as a fraction of rest density per second.")
         .integer("min_iterations", &SolverSettings::minIterations, 2, "", Range::closed(1, 1000),
                  "DFSPH: minimum pressure iterations per step.")
@@ -136,18 +143,20 @@ std::shared_ptr<const Object<SolverSettings>> solverSchema() {
         .check([](const SolverSettings& s, const Json&, const std::string& path) {
           if (s.minIterations > s.maxIterations)
             throw SchemaError(schema::childPath(path, "max_iterations"),
-                              fmt::format("expected max_iterations >= min_iterations ({}), got {}", s.minIterations,
-                                          s.maxIterations));
+                              fmt::format("expected max_iterations >= min_iterations ({}), got {}",
+                                          s.minIterations, s.maxIterations));
         });
   });
 }
 
 std::shared_ptr<const Object<TimeSettings>> timeSchema() {
   return makeSchema<TimeSettings>([](Object<TimeSettings>& o) {
-    o.number("fps", &TimeSettings::fps, 24, "1/s", Range{0, 1000, true, false}, "Frames per second of the cache.")
+    o.number("fps", &TimeSettings::fps, 24, "1/s", Range{0, 1000, true, false},
+             "Frames per second of the cache.")
         .integer("start_frame", &TimeSettings::startFrame, 1, "frame", Range::closed(-1e6, 1e7),
                  "First frame (simulated time 0); film shots often start at 1001.")
-        .integer("end_frame", &TimeSettings::endFrame, 48, "frame", Range::closed(-1e6, 1e7), "Last frame, inclusive.")
+        .integer("end_frame", &TimeSettings::endFrame, 48, "frame", Range::closed(-1e6, 1e7),
+                 "Last frame, inclusive.")
         .choice("dt_mode", &TimeSettings::mode, TimeStepMode::Cfl,
                 {{"fixed", TimeStepMode::Fixed}, {"cfl", TimeStepMode::Cfl}},
                 "Time step control: fixed dt, or CFL-adaptive between dt_min and dt_max.")
@@ -160,11 +169,13 @@ std::shared_ptr<const Object<TimeSettings>> timeSchema() {
                 "CFL mode: factor on the force limit sqrt(h / |a|max).")
         .number("dt_min", &TimeSettings::dtMin, 1e-6, "s", Range{0, 1, true, false},
                 "CFL mode: smallest step; needing less stops the run with an error.")
-        .number("dt_max", &TimeSettings::dtMax, 0.005, "s", Range{0, 1, true, false}, "CFL mode: largest step.")
+        .number("dt_max", &TimeSettings::dtMax, 0.005, "s", Range{0, 1, true, false},
+                "CFL mode: largest step.")
         .check([](const TimeSettings& t, const Json&, const std::string& path) {
           if (t.endFrame < t.startFrame)
-            throw SchemaError(schema::childPath(path, "end_frame"),
-                              fmt::format("expected end_frame >= start_frame ({}), got {}", t.startFrame, t.endFrame));
+            throw SchemaError(
+                schema::childPath(path, "end_frame"),
+                fmt::format("expected end_frame >= start_frame ({}), got {}", t.startFrame, t.endFrame));
           if (t.endFrame - t.startFrame > 1'000'000)
             throw SchemaError(schema::childPath(path, "end_frame"), "expected at most 1000000 frames");
           if (t.dtMin > t.dtMax)
@@ -177,7 +188,8 @@ std::shared_ptr<const Object<TimeSettings>> timeSchema() {
 std::shared_ptr<const Object<Keyframe>> keyframeSchema() {
   return makeSchema<Keyframe>([](Object<Keyframe>& o) {
     o.number("time", &Keyframe::time, 0, "s", Range::any(), "Time of the key (frame start_frame is 0 s).")
-        .vec3("offset", &Keyframe::offset, {0, 0, 0}, "m", Range::any(), "Translation from the rest placement.");
+        .vec3("offset", &Keyframe::offset, {0, 0, 0}, "m", Range::any(),
+              "Translation from the rest placement.");
   });
 }
 
@@ -185,9 +197,9 @@ template <class K>
 void checkIncreasingTimes(const std::vector<K>& keys, const std::string& path) {
   for (size_t i = 1; i < keys.size(); ++i)
     if (!(keys[i].time > keys[i - 1].time))
-      throw SchemaError(schema::childPath(schema::childPath(path, "keyframes"), i) + "/time",
-                        fmt::format("expected times in increasing order, got {} after {}", keys[i].time,
-                                    keys[i - 1].time));
+      throw SchemaError(
+          schema::childPath(schema::childPath(path, "keyframes"), i) + "/time",
+          fmt::format("expected times in increasing order, got {} after {}", keys[i].time, keys[i - 1].time));
 }
 
 std::shared_ptr<const Object<Collider>> colliderSchema() {
@@ -260,7 +272,8 @@ std::shared_ptr<const Object<Camera>> cameraSchema() {
   return makeSchema<Camera>([](Object<Camera>& o) {
     o.vec3("position", &Camera::position, {2, 1.5, 3}, "m", Range::any(), "Camera position.")
         .vec3("look_at", &Camera::lookAt, {0.5, 0.3, 0.5}, "m", Range::any(), "Point the camera looks at.")
-        .number("fov", &Camera::fovDegrees, 40, "degrees", Range{0, 180, true, true}, "Vertical field of view.")
+        .number("fov", &Camera::fovDegrees, 40, "degrees", Range{0, 180, true, true},
+                "Vertical field of view.")
         .list("keyframes", &Camera::keyframes, cameraKeySchema(), 0, kUnbounded,
               "Optional animation; when present it overrides position and look_at.")
         .check([](const Camera& c, const Json&, const std::string& path) {
@@ -282,7 +295,8 @@ std::shared_ptr<const Object<RenderSettings>> renderSchema() {
                 {{"surface", RenderSource::Surface}, {"particles", RenderSource::Particles}},
                 "What to render: the surfaced meshes or the particles as sphere impostors.")
         .choice("color_by", &RenderSettings::colorBy, ColorBy::Height,
-                {{"height", ColorBy::Height}, {"speed", ColorBy::Speed}}, "Particles mode: colour ramp input.")
+                {{"height", ColorBy::Height}, {"speed", ColorBy::Speed}},
+                "Particles mode: colour ramp input.")
         .choice("format", &RenderSettings::format, ImageFormat::Png,
                 {{"png", ImageFormat::Png}, {"exr", ImageFormat::Exr}},
                 "Image format: 8-bit sRGB PNG, or half RGBA + float Z EXR.")
@@ -317,7 +331,8 @@ void checkSceneGeometry(const Scene& s, const Json&, const std::string&) {
                                   vecText(s.domain.min) + " - " + vecText(s.domain.max));
     for (size_t j = 0; j < bounds.size(); ++j) {
       bool overlap = true;
-      for (int a = 0; a < 3; ++a) overlap = overlap && lo[a] < bounds[j].second[a] && bounds[j].first[a] < hi[a];
+      for (int a = 0; a < 3; ++a)
+        overlap = overlap && lo[a] < bounds[j].second[a] && bounds[j].first[a] < hi[a];
       if (overlap) throw SchemaError(path, "overlaps block " + std::to_string(j));
     }
     bounds.emplace_back(lo, hi);
@@ -328,8 +343,9 @@ void checkSceneGeometry(const Scene& s, const Json&, const std::string&) {
   }
   const size_t n = countInitialParticles(s);
   if (n > kMaxParticles)
-    throw SchemaError("/fluid/spacing", fmt::format("spacing {} m gives {} particles, more than the limit of {}",
-                                                    s.fluid.spacing, n, kMaxParticles));
+    throw SchemaError("/fluid/spacing",
+                      fmt::format("spacing {} m gives {} particles, more than the limit of {}",
+                                  s.fluid.spacing, n, kMaxParticles));
 }
 
 std::shared_ptr<const Object<Scene>> buildSceneSchema() {
@@ -445,8 +461,8 @@ void applyOverride(Json& raw, const std::string& assignment) {
     if (node->is_array()) {
       const bool numeric = std::all_of(key.begin(), key.end(), [](char c) { return std::isdigit(c); });
       if (!numeric || std::stoul(key) >= node->size())
-        throw InputError(fmt::format("--set {}: \"{}\" is not an index of an array of {} entries", assignment, key,
-                                     node->size()));
+        throw InputError(fmt::format("--set {}: \"{}\" is not an index of an array of {} entries", assignment,
+                                     key, node->size()));
       node = &(*node)[std::stoul(key)];
     } else if (node->is_object() || node->is_null()) {
       node = &(*node)[key];
@@ -483,7 +499,9 @@ Scene loadScene(const std::string& path, const std::vector<std::string>& overrid
   return parseScene(raw, overrides.empty() ? path : path + " (with --set overrides)");
 }
 
-Json sceneToJson(const Scene& scene) { return sceneSchema().write(scene); }
+Json sceneToJson(const Scene& scene) {
+  return sceneSchema().write(scene);
+}
 
 std::string sceneReferenceMarkdown() {
   std::vector<schema::FieldDoc> docs;
@@ -494,7 +512,8 @@ std::string sceneReferenceMarkdown() {
       "a test fails when this file is stale. -->\n\n"
       "Scenes are JSON files in SI units; +Y is up. Every key is optional (its default is used) unless a "
       "shape needs it; unknown keys are errors. `sphfx scene FILE` prints a scene resolved, and "
-      "`--set path=value` overrides any parameter from the command line (`--set fluid.blocks.0.max=[1,2,1]`).\n\n"
+      "`--set path=value` overrides any parameter from the command line (`--set "
+      "fluid.blocks.0.max=[1,2,1]`).\n\n"
       "| Parameter | Type | Default | Unit | Valid | Description |\n"
       "|---|---|---|---|---|---|\n";
   for (const auto& d : docs) {

@@ -75,6 +75,8 @@ std::string childPath(const std::string& path, const std::string& key) {
   return path + "/" + escaped;
 }
 
-std::string childPath(const std::string& path, size_t index) { return path + "/" + std::to_string(index); }
+std::string childPath(const std::string& path, size_t index) {
+  return path + "/" + std::to_string(index);
+}
 
 }  // namespace sphfx::schema

@@ -56,8 +56,10 @@ std::string verifyComputeSelfTest() {
     expectedMax = std::max(expectedMax, expected);
     expectedCells += uint32_t(i % 4 + 4 * ((i / 4) % 4) + 16 * ((i / 16) % 4));
   }
-  if (r.invocations != input.size()) return fmt::format("{} invocations, expected {}", r.invocations, input.size());
-  if (r.maxValue != expectedMax) return fmt::format("atomicMax gave {}, expected {}", r.maxValue, expectedMax);
+  if (r.invocations != input.size())
+    return fmt::format("{} invocations, expected {}", r.invocations, input.size());
+  if (r.maxValue != expectedMax)
+    return fmt::format("atomicMax gave {}, expected {}", r.maxValue, expectedMax);
   if (r.cellIndexSum != expectedCells)
     return fmt::format("cell index sum {}, expected {}", r.cellIndexSum, expectedCells);
   return {};

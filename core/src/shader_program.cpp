@@ -24,14 +24,16 @@ ShaderDefines& ShaderDefines::set(const std::string& name, const std::string& va
   values_[name] = value;
   return *this;
 }
-ShaderDefines& ShaderDefines::set(const std::string& name, int value) { return set(name, std::to_string(value)); }
+ShaderDefines& ShaderDefines::set(const std::string& name, int value) {
+  return set(name, std::to_string(value));
+}
 ShaderDefines& ShaderDefines::set(const std::string& name, unsigned value) {
   return set(name, std::to_string(value) + "u");
 }
 ShaderDefines& ShaderDefines::set(const std::string& name, float value) {
   // Round-trip exact, and always a float literal in GLSL.
-  return set(name, fmt::format("{:.9g}", value) + (fmt::format("{:.9g}", value).find_first_of(".e") ==
-                                                            std::string::npos ? ".0" : ""));
+  return set(name, fmt::format("{:.9g}", value) +
+                       (fmt::format("{:.9g}", value).find_first_of(".e") == std::string::npos ? ".0" : ""));
 }
 
 std::string ShaderDefines::text() const {
@@ -76,7 +78,8 @@ void appendFile(const std::string& file, AssembledShader& out, std::set<std::str
 
 std::string legend(const AssembledShader& s) {
   std::string out = "(source numbers: ";
-  for (size_t i = 0; i < s.files.size(); ++i) out += fmt::format("{}{} = {}", i ? ", " : "", i + 1, s.files[i]);
+  for (size_t i = 0; i < s.files.size(); ++i)
+    out += fmt::format("{}{} = {}", i ? ", " : "", i + 1, s.files[i]);
   return out + ")";
 }
 
@@ -132,7 +135,9 @@ AssembledShader assembleShader(const std::string& stageFile, const ShaderDefines
 ShaderProgram::~ShaderProgram() {
   if (id_) glDeleteProgram(id_);
 }
-ShaderProgram::ShaderProgram(ShaderProgram&& other) noexcept : id_(other.id_) { other.id_ = 0; }
+ShaderProgram::ShaderProgram(ShaderProgram&& other) noexcept : id_(other.id_) {
+  other.id_ = 0;
+}
 ShaderProgram& ShaderProgram::operator=(ShaderProgram&& other) noexcept {
   if (this != &other) {
     if (id_) glDeleteProgram(id_);
@@ -160,9 +165,13 @@ ShaderProgram ShaderProgram::graphics(const std::string& vertexFile, const std::
   return ShaderProgram(link({vs, fs}, vertexFile + " + " + fragmentFile));
 }
 
-void ShaderProgram::use() const { glUseProgram(id_); }
+void ShaderProgram::use() const {
+  glUseProgram(id_);
+}
 
-int ShaderProgram::uniform(const char* name) const { return glGetUniformLocation(id_, name); }
+int ShaderProgram::uniform(const char* name) const {
+  return glGetUniformLocation(id_, name);
+}
 
 std::array<int, 3> ShaderProgram::workGroupSize() const {
   std::array<int, 3> size{};

@@ -33,15 +33,19 @@ inline void checkGpuLayouts(const std::vector<GpuBlockLayout>& layouts) {
     const GLenum memberInterface = layout.uniform ? GL_UNIFORM : GL_BUFFER_VARIABLE;
     const GLuint block = glGetProgramResourceIndex(program.id(), blockInterface, layout.block.c_str());
     ASSERT_NE(block, GL_INVALID_INDEX) << "block not active in the program";
-    EXPECT_EQ(resourceProperty(program.id(), blockInterface, block, GL_BUFFER_BINDING), GLint(layout.binding));
+    EXPECT_EQ(resourceProperty(program.id(), blockInterface, block, GL_BUFFER_BINDING),
+              GLint(layout.binding));
     if (layout.size != 0) {
-      EXPECT_EQ(resourceProperty(program.id(), blockInterface, block, GL_BUFFER_DATA_SIZE), GLint(layout.size));
+      EXPECT_EQ(resourceProperty(program.id(), blockInterface, block, GL_BUFFER_DATA_SIZE),
+                GLint(layout.size));
     }
     for (const GpuMember& m : layout.members) {
       const GLuint member = glGetProgramResourceIndex(program.id(), memberInterface, m.name.c_str());
       ASSERT_NE(member, GL_INVALID_INDEX) << m.name << " is not a member the GL reports";
-      EXPECT_EQ(resourceProperty(program.id(), memberInterface, member, GL_OFFSET), GLint(m.offset)) << m.name;
-      EXPECT_EQ(resourceProperty(program.id(), memberInterface, member, GL_BLOCK_INDEX), GLint(block)) << m.name;
+      EXPECT_EQ(resourceProperty(program.id(), memberInterface, member, GL_OFFSET), GLint(m.offset))
+          << m.name;
+      EXPECT_EQ(resourceProperty(program.id(), memberInterface, member, GL_BLOCK_INDEX), GLint(block))
+          << m.name;
     }
   }
 }

@@ -22,7 +22,8 @@ TriangleMesh tetrahedron() {
   m.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
   for (const auto& p : m.positions) {
     const float l = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
-    m.normals.push_back(l > 0 ? std::array<float, 3>{p[0] / l, p[1] / l, p[2] / l} : std::array<float, 3>{0, -1, 0});
+    m.normals.push_back(l > 0 ? std::array<float, 3>{p[0] / l, p[1] / l, p[2] / l}
+                              : std::array<float, 3>{0, -1, 0});
   }
   return m;
 }
@@ -60,9 +61,10 @@ TEST(MeshIo, AsciiQuadsAreSplitAndNormalsComputed) {
   const fs::path dir = fs::temp_directory_path() / "sphfx_mesh_test2";
   fs::create_directories(dir);
   const std::string path = (dir / "quad.ply").string();
-  std::ofstream(path) << "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
-                         "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
-                         "0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n";
+  std::ofstream(path)
+      << "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+         "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+         "0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n";
   const TriangleMesh r = readPly(path);
   ASSERT_EQ(r.triangles.size(), 2u);
   for (const auto& n : r.normals) EXPECT_FLOAT_EQ(n[2], 1.0f);

@@ -38,8 +38,8 @@ TEST(Scene, DefaultsFillEverything) {
 }
 
 TEST(Scene, ShippedAndTestScenesRoundTrip) {
-  for (const std::string file : {"/scenes/dam_break.json", "/scenes/hydrostatic.json", "/scenes/box_emerge.json",
-                                 "/tests/scenes/good/everything.json"}) {
+  for (const std::string file : {"/scenes/dam_break.json", "/scenes/hydrostatic.json",
+                                 "/scenes/box_emerge.json", "/tests/scenes/good/everything.json"}) {
     SCOPED_TRACE(file);
     const Scene a = loadScene(kDir + file);
     const Json resolved = sceneToJson(a);
@@ -131,7 +131,8 @@ TEST(Scene, SyntaxErrorNamesFileAndLine) {
     loadScene(kDir + "/tests/scenes/bad/syntax_error.json");
     FAIL() << "no error";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("syntax_error.json: invalid JSON: parse error at line 1"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("syntax_error.json: invalid JSON: parse error at line 1"),
+              std::string::npos)
         << e.what();
   }
   EXPECT_THROW(loadScene(kDir + "/tests/scenes/does_not_exist.json"), InputError);

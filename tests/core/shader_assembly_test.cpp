@@ -25,8 +25,8 @@ TEST(ShaderAssembly, OrderAndDefines) {
   EXPECT_LT(bindings, common);
   EXPECT_LT(common, layout);
   EXPECT_LT(layout, main);
-  EXPECT_EQ(s.files, (std::vector<std::string>{"bindings.h", "sim_bindings.h", "render_bindings.h", "common.glsl",
-                                               "selftest.comp", "selftest_layout.glsl"}));
+  EXPECT_EQ(s.files, (std::vector<std::string>{"bindings.h", "sim_bindings.h", "render_bindings.h",
+                                               "common.glsl", "selftest.comp", "selftest_layout.glsl"}));
   EXPECT_EQ(s.text.find("#include"), std::string::npos);
 }
 

@@ -30,7 +30,8 @@ FrameRange parseFrameRange(const std::string& text, const FrameRange* within = n
 /// a crash (kill -9) never see a partial file. `write` receives the temporary path. The temporary is
 /// removed if `write` throws. Parent directories are created.
 /// @throws IoError if the rename fails; rethrows what `write` throws.
-void writeFileAtomically(const std::string& path, const std::function<void(const std::string& tmpPath)>& write);
+void writeFileAtomically(const std::string& path,
+                         const std::function<void(const std::string& tmpPath)>& write);
 
 /// Atomically writes text to `path`.
 void writeTextAtomically(const std::string& path, const std::string& text);

@@ -30,8 +30,10 @@ struct GpuBlockLayout {
   std::vector<GpuMember> members;
 };
 
-#define SPHFX_GPU_MEMBER(Struct, member, glslName) \
-  ::sphfx::GpuMember { glslName, offsetof(Struct, member), sizeof(Struct::member) }
+#define SPHFX_GPU_MEMBER(Struct, member, glslName)             \
+  ::sphfx::GpuMember {                                         \
+    glslName, offsetof(Struct, member), sizeof(Struct::member) \
+  }
 
 /// std140 mirror of the self-test uniform block (shaders/selftest_layout.glsl).
 struct SelfTestParams {

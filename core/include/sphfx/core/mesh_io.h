@@ -33,6 +33,7 @@ std::string meshPath(const std::string& shotDir, int frame);
 /// SHOT/surface/surface.####.vdb
 std::string surfacePath(const std::string& shotDir, int frame);
 /// SHOT/render/<source>.####.<ext>
-std::string renderPath(const std::string& shotDir, const std::string& source, int frame, const std::string& ext);
+std::string renderPath(const std::string& shotDir, const std::string& source, int frame,
+                       const std::string& ext);
 
 }  // namespace sphfx

@@ -59,7 +59,7 @@ struct SolverSettings {
   double stiffness = 0;     ///< linear EOS: p = k (rho - rho0), k in Pa / (kg/m^3) = m^2/s^2
   double speedOfSound = 0;  ///< Tait EOS: B = rho0 c^2 / gamma
   double gamma = 7;
-  double kernelSupport = 0;  ///< kernel support radius h as a multiple of the particle spacing
+  double kernelSupport = 0;       ///< kernel support radius h as a multiple of the particle spacing
   double maxDensityError = 0;     ///< DFSPH: average density error tolerance (fraction of rho0)
   double maxDivergenceError = 0;  ///< DFSPH: divergence tolerance (fraction of rho0 per second)
   int minIterations = 0;

@@ -129,7 +129,8 @@ class Object {
   Object& choice(std::string name, E S::*member, E def, std::vector<std::pair<std::string, E>> values,
                  std::string description) {
     auto table = std::make_shared<std::vector<std::pair<std::string, E>>>(std::move(values));
-    Field f = makeField(name, "enum", "\"" + nameOf(*table, def) + "\"", "", choicesText(*table), description);
+    Field f =
+        makeField(name, "enum", "\"" + nameOf(*table, def) + "\"", "", choicesText(*table), description);
     f.setDefault = [=](S& s) { s.*member = def; };
     f.read = [=](const Json& j, const std::string& path, S& s) { s.*member = readChoice(j, path, *table); };
     f.write = [=](const S& s, Json& out) { out[name] = nameOf(*table, s.*member); };
@@ -152,7 +153,8 @@ class Object {
       for (size_t i = 0; i < j.size(); ++i) {
         E e = readChoice(j[i], childPath(path, i), *table);
         for (E seen : out)
-          if (seen == e) throw SchemaError(childPath(path, i), "\"" + nameOf(*table, e) + "\" is listed twice");
+          if (seen == e)
+            throw SchemaError(childPath(path, i), "\"" + nameOf(*table, e) + "\" is listed twice");
         out.push_back(e);
       }
       s.*member = std::move(out);
@@ -172,13 +174,16 @@ class Object {
     Field f = makeField(name, "array of 3 numbers", vecText(def), unit, range.text(), description);
     f.setDefault = [=](S& s) { s.*member = def; };
     f.read = [=](const Json& j, const std::string& path, S& s) {
-      if (!j.is_array() || j.size() != 3) throw SchemaError(path, "expected an array of 3 numbers, got " + describeValue(j));
+      if (!j.is_array() || j.size() != 3)
+        throw SchemaError(path, "expected an array of 3 numbers, got " + describeValue(j));
       Vec3d v;
       for (size_t i = 0; i < 3; ++i) {
-        if (!j[i].is_number()) throw SchemaError(path, "expected an array of 3 numbers, got " + describeValue(j));
+        if (!j[i].is_number())
+          throw SchemaError(path, "expected an array of 3 numbers, got " + describeValue(j));
         v[i] = j[i].get<double>();
         if (!std::isfinite(v[i]) || !range.contains(v[i]))
-          throw SchemaError(childPath(path, i), "expected a number in " + range.text() + ", got " + describeValue(j[i]));
+          throw SchemaError(childPath(path, i),
+                            "expected a number in " + range.text() + ", got " + describeValue(j[i]));
       }
       s.*member = v;
     };
@@ -189,20 +194,23 @@ class Object {
 
   /// A nested object; absent means all of its defaults.
   template <class C>
-  Object& child(std::string name, C S::*member, std::shared_ptr<const Object<C>> schema, std::string description) {
+  Object& child(std::string name, C S::*member, std::shared_ptr<const Object<C>> schema,
+                std::string description) {
     Field f = makeField(name, "object", "{}", "", "", description);
     f.setDefault = [=](S& s) { schema->setDefaults(s.*member); };
     f.read = [=](const Json& j, const std::string& path, S& s) { schema->read(j, path, s.*member); };
     f.write = [=](const S& s, Json& out) { out[name] = schema->write(s.*member); };
-    f.document = [=](const std::string& prefix, std::vector<FieldDoc>& docs) { schema->document(prefix, docs); };
+    f.document = [=](const std::string& prefix, std::vector<FieldDoc>& docs) {
+      schema->document(prefix, docs);
+    };
     fields_.push_back(std::move(f));
     return *this;
   }
 
   /// An optional nested object: absent (or null) means "not set".
   template <class C>
-  Object& optionalChild(std::string name, std::optional<C> S::*member, std::shared_ptr<const Object<C>> schema,
-                        std::string description) {
+  Object& optionalChild(std::string name, std::optional<C> S::*member,
+                        std::shared_ptr<const Object<C>> schema, std::string description) {
     Field f = makeField(name, "object (optional)", "absent", "", "", description);
     f.setDefault = [=](S& s) { (s.*member).reset(); };
     f.read = [=](const Json& j, const std::string& path, S& s) {
@@ -214,18 +222,20 @@ class Object {
     f.write = [=](const S& s, Json& out) {
       if (s.*member) out[name] = schema->write(*(s.*member));
     };
-    f.document = [=](const std::string& prefix, std::vector<FieldDoc>& docs) { schema->document(prefix, docs); };
+    f.document = [=](const std::string& prefix, std::vector<FieldDoc>& docs) {
+      schema->document(prefix, docs);
+    };
     fields_.push_back(std::move(f));
     return *this;
   }
 
   /// An array of objects with between minCount and maxCount entries.
   template <class C>
-  Object& list(std::string name, std::vector<C> S::*member, std::shared_ptr<const Object<C>> schema, size_t minCount,
-               size_t maxCount, std::string description) {
-    const std::string range = "[" + std::to_string(minCount) + ", " +
-                              (maxCount == std::numeric_limits<size_t>::max() ? "inf" : std::to_string(maxCount)) +
-                              "] entries";
+  Object& list(std::string name, std::vector<C> S::*member, std::shared_ptr<const Object<C>> schema,
+               size_t minCount, size_t maxCount, std::string description) {
+    const std::string range =
+        "[" + std::to_string(minCount) + ", " +
+        (maxCount == std::numeric_limits<size_t>::max() ? "inf" : std::to_string(maxCount)) + "] entries";
     Field f = makeField(name, "array of objects", "[]", "", range, description);
     f.setDefault = [=](S& s) { (s.*member).clear(); };
     f.read = [=](const Json& j, const std::string& path, S& s) {
@@ -269,7 +279,8 @@ class Object {
 
   /// Validates `j` and fills `out`. Throws SchemaError naming the JSON path of the first problem.
   void read(const Json& j, const std::string& path, S& out) const {
-    if (!j.is_object()) throw SchemaError(path.empty() ? "/" : path, "expected an object, got " + describeValue(j));
+    if (!j.is_object())
+      throw SchemaError(path.empty() ? "/" : path, "expected an object, got " + describeValue(j));
     std::vector<std::string> names;
     for (const Field& f : fields_) names.push_back(f.name);
     for (auto it = j.begin(); it != j.end(); ++it) {
@@ -324,7 +335,8 @@ class Object {
                          std::string range, std::string description) {
     Field f;
     f.name = name;
-    f.doc = FieldDoc{name, std::move(type), std::move(def), std::move(unit), std::move(range), std::move(description)};
+    f.doc = FieldDoc{
+        name, std::move(type), std::move(def), std::move(unit), std::move(range), std::move(description)};
     return f;
   }
 
@@ -337,17 +349,19 @@ class Object {
   }
 
   static int readInteger(const Json& j, const std::string& path, const Range& range) {
-    if (!j.is_number_integer())
-      throw SchemaError(path, "expected an integer, got " + describeValue(j));
+    if (!j.is_number_integer()) throw SchemaError(path, "expected an integer, got " + describeValue(j));
     const auto v = j.get<int64_t>();
-    if (!range.contains(double(v)) || v < std::numeric_limits<int>::min() || v > std::numeric_limits<int>::max())
+    if (!range.contains(double(v)) || v < std::numeric_limits<int>::min() ||
+        v > std::numeric_limits<int>::max())
       throw SchemaError(path, "expected an integer in " + range.text() + ", got " + describeValue(j));
     return int(v);
   }
 
   template <class E>
-  static E readChoice(const Json& j, const std::string& path, const std::vector<std::pair<std::string, E>>& table) {
-    if (!j.is_string()) throw SchemaError(path, "expected one of " + choicesText(table) + ", got " + describeValue(j));
+  static E readChoice(const Json& j, const std::string& path,
+                      const std::vector<std::pair<std::string, E>>& table) {
+    if (!j.is_string())
+      throw SchemaError(path, "expected one of " + choicesText(table) + ", got " + describeValue(j));
     const auto s = j.get<std::string>();
     std::vector<std::string> names;
     for (const auto& [n, e] : table) {

@@ -10,10 +10,10 @@
 namespace sphfx {
 
 struct ComputeSelfTestResult {
-  std::vector<float> data;     ///< input[i] * scale + offset, computed on the GPU
-  uint32_t invocations = 0;    ///< atomicAdd count
-  float maxValue = 0;          ///< atomicMax over the results (positive inputs)
-  uint32_t cellIndexSum = 0;   ///< sum of sphfxCellIndex() over invocations (common.glsl)
+  std::vector<float> data;    ///< input[i] * scale + offset, computed on the GPU
+  uint32_t invocations = 0;   ///< atomicAdd count
+  float maxValue = 0;         ///< atomicMax over the results (positive inputs)
+  uint32_t cellIndexSum = 0;  ///< sum of sphfxCellIndex() over invocations (common.glsl)
 };
 
 /// Runs shaders/selftest.comp on `input` in the current context. @throws GLError.

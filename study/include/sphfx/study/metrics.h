@@ -1,0 +1,69 @@
+#pragma once
+/// @file metrics.h
+/// @brief Error metrics computed from particle caches (the simulation stage's output on disk), plus the
+/// numerical analysis a study reports: observed order of convergence and the Pareto front of error
+/// against run time.
+
+#include <cstddef>
+#include <utility>
+#include <vector>
+
+#include "sphfx/core/particle_cache.h"
+#include "sphfx/study/references.h"
+
+namespace sphfx::study {
+
+/// Leading edge of a dam-break surge: the x of the k-th farthest particle from the wall behind the
+/// column, k = 1 + N/2000, so that one stray droplet does not set the front; minus wallX.
+double surgeFront(const ParticleFrame& frame, double wallX);
+
+/// Height of the water at the wall: the highest particle top (y + spacing/2) among particles within
+/// `band` of the wall.
+double columnHeightAtWall(const ParticleFrame& frame, double wallX, double band);
+
+/// A simulated curve sample (dimensionless time, value).
+struct CurveSample {
+  double t;
+  double value;
+};
+
+struct CurveError {
+  double rms = 0;  ///< RMS of |sim - ref| / ref over the samples the table covers
+  double max = 0;  ///< largest such relative error
+  size_t samples = 0;
+};
+
+/// Compares a simulated curve with a reference table at the simulated samples whose time lies in the
+/// table's range and at most tMax. Reference values are interpolated linearly.
+CurveError relativeError(const std::vector<CurveSample>& simulated, const Table& reference, double tMax);
+
+struct HydrostaticError {
+  double pressureL2 = 0;        ///< ||p - rho0 g (H - y)|| / ||rho0 g (H - y)|| over particles below H - h
+  double meanDensityError = 0;  ///< mean(rho) / rho0 - 1
+  double maxDensityError = 0;   ///< max |rho / rho0 - 1|
+};
+
+/// Hydrostatic errors; needs the cache's density and pressure attributes. Particles within one kernel
+/// radius of the free surface are left out of the pressure norm (SPH kernels are truncated there).
+/// @throws InputError if the frame lacks density or pressure.
+HydrostaticError hydrostaticError(const ParticleFrame& frame, double restDensity, double gravity,
+                                  double surfaceHeight, double kernelRadius);
+
+/// Relative L2 error of the x velocity profile across the channel against poiseuilleVelocity(), with
+/// particles averaged in `bins` slabs across y in [0, L].
+double poiseuilleProfileError(const ParticleFrame& frame, double plateDistance, double bodyForce,
+                              double viscosity, int bins);
+
+/// Kinetic energy sum m |v|^2 / 2 and potential energy sum m g y (J), for energy-drift reports.
+double kineticEnergy(const ParticleFrame& frame, double particleMass);
+double potentialEnergy(const ParticleFrame& frame, double particleMass, double gravity);
+
+/// Observed order of convergence p from errors e(h) ~ C h^p: the least-squares slope of log e against
+/// log h over all points (at least two, h and e positive). @throws InputError otherwise.
+double observedOrder(const std::vector<std::pair<double, double>>& spacingAndError);
+
+/// Indices of the points (cost, error) that no other point beats in both (lower cost and lower error),
+/// sorted by cost. Ties: a point is dominated only by one at least as good in both and better in one.
+std::vector<size_t> paretoFront(const std::vector<std::pair<double, double>>& costAndError);
+
+}  // namespace sphfx::study

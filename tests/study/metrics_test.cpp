@@ -1,0 +1,93 @@
+// Metrics on synthetic frames whose answers are known by construction.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "sphfx/core/error.h"
+#include "sphfx/study/metrics.h"
+
+using namespace sphfx;
+using namespace sphfx::study;
+
+namespace {
+ParticleFrame lattice(int nx, int ny, int nz, double d) {
+  ParticleFrame f;
+  f.particleSpacing = d;
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) {
+        f.position.push_back({float((i + 0.5) * d), float((j + 0.5) * d), float((k + 0.5) * d)});
+        f.velocity.push_back({0, 0, 0});
+      }
+  return f;
+}
+}  // namespace
+
+TEST(Metrics, SurgeFrontAndColumnHeightOfABlock) {
+  const ParticleFrame f = lattice(20, 40, 5, 0.01);  // a 0.2 x 0.4 block at x = 0
+  EXPECT_NEAR(surgeFront(f, 0.0), 0.2, 1e-6);
+  EXPECT_NEAR(columnHeightAtWall(f, 0.0, 0.02), 0.4, 1e-6);
+  ParticleFrame stray = f;
+  stray.position.push_back({5.0f, 0.0f, 0.0f});  // one droplet far ahead does not move the front
+  stray.velocity.push_back({0, 0, 0});
+  EXPECT_NEAR(surgeFront(stray, 0.0), 0.2, 1e-6);
+}
+
+TEST(Metrics, RelativeErrorOfACurve) {
+  const Table ref({0, 1, 2}, {1, 2, 3});
+  const std::vector<CurveSample> sim = {
+      {0.5, 1.5 * 1.1}, {1.5, 2.5 * 0.9}, {2.5, 100}};  // last sample outside
+  const CurveError e = relativeError(sim, ref, 10);
+  EXPECT_EQ(e.samples, 2u);
+  EXPECT_NEAR(e.rms, 0.1, 1e-12);
+  EXPECT_NEAR(e.max, 0.1, 1e-12);
+  EXPECT_EQ(relativeError(sim, ref, 1.0).samples, 1u);
+}
+
+TEST(Metrics, HydrostaticErrorIsZeroForTheExactProfile) {
+  ParticleFrame f = lattice(4, 30, 4, 0.01);
+  const double H = 0.3, rho0 = 1000, g = 9.81;
+  for (const auto& p : f.position) {
+    f.density.push_back(float(rho0));
+    f.pressure.push_back(float(rho0 * g * (H - p[1])));
+  }
+  HydrostaticError e = hydrostaticError(f, rho0, g, H, 0.02);
+  EXPECT_LT(e.pressureL2, 1e-6);
+  EXPECT_NEAR(e.meanDensityError, 0, 1e-9);
+  for (auto& p : f.pressure) p *= 1.05f;
+  EXPECT_NEAR(hydrostaticError(f, rho0, g, H, 0.02).pressureL2, 0.05, 1e-4);
+  f.density.clear();
+  EXPECT_THROW(hydrostaticError(f, rho0, g, H, 0.02), InputError);
+}
+
+TEST(Metrics, PoiseuilleProfileErrorOfTheExactSolutionIsSmall) {
+  const double L = 1e-3, F = 1e-4, nu = 1e-6;
+  ParticleFrame f = lattice(4, 40, 1, L / 40);
+  f.time = 0.02;
+  for (size_t i = 0; i < f.size(); ++i)
+    f.velocity[i][0] = float(poiseuilleVelocity(f.position[i][1], f.time, L, F, nu));
+  EXPECT_LT(poiseuilleProfileError(f, L, F, nu, 20), 1e-5);
+  for (auto& v : f.velocity) v[0] *= 0.9f;
+  EXPECT_NEAR(poiseuilleProfileError(f, L, F, nu, 20), 0.1, 1e-3);
+}
+
+TEST(Metrics, Energies) {
+  ParticleFrame f = lattice(1, 1, 1, 1.0);
+  f.velocity[0] = {3, 4, 0};
+  EXPECT_DOUBLE_EQ(kineticEnergy(f, 2.0), 25.0);
+  EXPECT_DOUBLE_EQ(potentialEnergy(f, 2.0, 10.0), 2.0 * 10.0 * 0.5);
+}
+
+TEST(Metrics, ObservedOrderRecoversThePower) {
+  std::vector<std::pair<double, double>> he;
+  for (double h : {0.04, 0.02, 0.01}) he.emplace_back(h, 3.0 * h * h);
+  EXPECT_NEAR(observedOrder(he), 2.0, 1e-12);
+  EXPECT_THROW(observedOrder({{0.1, 1}}), InputError);
+  EXPECT_THROW(observedOrder({{0.1, 1}, {0.1, 2}}), InputError);
+}
+
+TEST(Metrics, ParetoFront) {
+  // (cost, error): 0 and 2 and 3 are optimal; 1 is beaten by 0; 4 ties 3 on error but costs more.
+  const std::vector<std::pair<double, double>> pts = {{1, 5}, {2, 6}, {3, 2}, {10, 1}, {11, 1}};
+  EXPECT_EQ(paretoFront(pts), (std::vector<size_t>{0, 2, 3}));
+}
