@@ -97,7 +97,10 @@ std::shared_ptr<const Object<FluidBlock>> fluidBlockSchema() {
 std::shared_ptr<const Object<Fluid>> fluidSchema() {
   return makeSchema<Fluid>([](Object<Fluid>& o) {
     o.number("spacing", &Fluid::spacing, 0.02, "m", Range{0, 10, true, false},
-             "Initial particle spacing; sets the resolution (particle volume = spacing^3).")
+             "Rest particle spacing; sets the resolution and the particle mass (rest_density * spacing^3).")
+        .number("packing", &Fluid::packing, 1.0, "", Range::closed(0.5, 2),
+                "Initial lattice spacing as a fraction of spacing: below 1 starts compressed (dense-start "
+                "stability tests), above 1 sparse.")
         .number("rest_density", &Fluid::restDensity, 1000, "kg/m^3", Range{0, 1e5, true, false},
                 "Rest density of the fluid.")
         .choice("viscosity_model", &Fluid::viscosityModel, ViscosityModel::Artificial,
@@ -375,7 +378,7 @@ long latticeCount(double lo, double hi, double s) {
 
 template <class Fn>
 void forEachSeed(const Scene& scene, Fn&& fn) {
-  const double s = scene.fluid.spacing;
+  const double s = scene.fluid.spacing * scene.fluid.packing;
   for (const FluidBlock& b : scene.fluid.blocks) {
     Vec3d lo, hi;
     blockBounds(b, lo, hi);
@@ -412,7 +415,7 @@ const Object<Scene>& sceneSchema() {
 size_t countInitialParticles(const Scene& scene) {
   // Count without materialising the particles (validation runs this on every load).
   size_t n = 0;
-  const double s = scene.fluid.spacing;
+  const double s = scene.fluid.spacing * scene.fluid.packing;
   for (const FluidBlock& b : scene.fluid.blocks) {
     if (b.shape == Shape::Box) {
       size_t c = 1;

@@ -137,3 +137,12 @@ TEST(Scene, SyntaxErrorNamesFileAndLine) {
   }
   EXPECT_THROW(loadScene(kDir + "/tests/scenes/does_not_exist.json"), InputError);
 }
+
+TEST(Scene, PackingCompressesTheInitialLattice) {
+  Json raw = minimal();
+  raw["fluid"]["spacing"] = 0.1;
+  raw["fluid"]["packing"] = 0.5;
+  const Scene s = parseScene(raw, "x.json");
+  EXPECT_EQ(countInitialParticles(s), 1000u);                  // 10^3 at half the spacing
+  EXPECT_DOUBLE_EQ(s.particleMass(), 1000 * 0.1 * 0.1 * 0.1);  // mass follows the rest spacing
+}

@@ -45,7 +45,8 @@ struct FluidBlock {
 };
 
 struct Fluid {
-  double spacing = 0;  ///< initial particle spacing (m); sets the resolution
+  double spacing = 0;  ///< rest particle spacing (m); sets the resolution and the particle mass
+  double packing = 1;  ///< initial lattice spacing as a fraction of `spacing` (< 1: compressed start)
   double restDensity = 0;
   ViscosityModel viscosityModel = ViscosityModel::Artificial;
   double viscosity = 0;            ///< kinematic viscosity (m^2/s), laplacian model

@@ -168,6 +168,36 @@ class Object {
     return *this;
   }
 
+  /// Any JSON value, kept as is (for values whose meaning another schema decides, e.g. a study's
+  /// parameter values that are scene overrides).
+  Object& anyJson(std::string name, Json S::*member, Json def, std::string description) {
+    Field f = makeField(name, "any JSON", def.dump(), "", "", description);
+    f.setDefault = [=](S& s) { s.*member = def; };
+    f.read = [=](const Json& j, const std::string&, S& s) { s.*member = j; };
+    f.write = [=](const S& s, Json& out) { out[name] = s.*member; };
+    fields_.push_back(std::move(f));
+    return *this;
+  }
+
+  /// An array of strings.
+  Object& textList(std::string name, std::vector<std::string> S::*member, std::string description) {
+    Field f = makeField(name, "array of strings", "[]", "", "", description);
+    f.setDefault = [=](S& s) { (s.*member).clear(); };
+    f.read = [=](const Json& j, const std::string& path, S& s) {
+      if (!j.is_array()) throw SchemaError(path, "expected an array of strings, got " + describeValue(j));
+      std::vector<std::string> out;
+      for (size_t i = 0; i < j.size(); ++i) {
+        if (!j[i].is_string())
+          throw SchemaError(childPath(path, i), "expected a string, got " + describeValue(j[i]));
+        out.push_back(j[i].get<std::string>());
+      }
+      s.*member = std::move(out);
+    };
+    f.write = [=](const S& s, Json& out) { out[name] = s.*member; };
+    fields_.push_back(std::move(f));
+    return *this;
+  }
+
   /// A 3-vector of numbers, each component in `range`.
   Object& vec3(std::string name, Vec3d S::*member, Vec3d def, std::string unit, Range range,
                std::string description) {

@@ -1,0 +1,103 @@
+#pragma once
+/// @file study.h
+/// @brief `sphfx study`: a grid of simulations on validation scenes, each measured for error against an
+/// independent reference and for wall time, reported as a table, a log-log plot with the Pareto front,
+/// and a Markdown report.
+///
+/// A study talks to the simulator only through the `sphfx simulate` command and the caches it writes,
+/// like every other stage: each run is a subprocess with a time limit, so a crash or a hang is recorded
+/// as a failed run instead of ending the study.
+
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "sphfx/core/schema.h"
+
+namespace sphfx::study {
+
+using schema::Json;
+
+enum class Validation { DamBreak, Hydrostatic, Poiseuille };
+
+/// One parameter axis of the grid: a scene path (as for --set) and the values it takes.
+struct Axis {
+  std::string path;
+  Json values;  ///< array of JSON values
+};
+
+/// One validation scene and its grid.
+struct StudyCase {
+  std::string name;
+  std::string scene;  ///< scene file, relative to the study file
+  Validation validation = Validation::DamBreak;
+  std::vector<std::string> set;  ///< overrides applied to every run
+  std::vector<Axis> axes;        ///< the grid is their Cartesian product
+  std::string convergenceAxis;   ///< axis along which the observed order is computed ("" = none)
+  std::string seriesAxis;        ///< axis whose values are the plot's series (e.g. solver.method)
+};
+
+struct StudySpec {
+  std::string name;
+  double timeoutSeconds = 0;  ///< per run
+  std::vector<StudyCase> cases;
+  std::string directory;  ///< folder of the study file (scene paths are relative to it)
+};
+
+/// Reads and validates a study file. @throws InputError naming the file and JSON path.
+StudySpec loadStudy(const std::string& path);
+
+/// How one simulation ended.
+enum class RunStatus { Completed, StoppedCleanly, Failed };
+std::string toString(RunStatus s);
+
+/// A run of `sphfx simulate` and what it left behind.
+struct RunOutcome {
+  RunStatus status = RunStatus::Failed;
+  int exitCode = -1;
+  double wallSeconds = 0;  ///< the simulator's own figure from the manifest if present, else the process's
+  std::string message;     ///< the error line for stopped or failed runs
+  std::string shotDir;
+  long substeps = 0;
+  double dtMean = 0;
+};
+
+/// Runs `sphfx simulate SCENE -o SHOT -q` as a subprocess with a time limit. A run that exits 3
+/// (health check) counts as stopped cleanly only if its message names the frame, the substep and a
+/// cause; any other non-zero exit, a signal or the time limit is a failure. Completed runs are then
+/// checked for caches that should not exist (NaN/Inf or particles outside the domain): failed.
+RunOutcome runSimulation(const std::string& sphfxExe, const std::string& sceneFile,
+                         const std::string& shotDir, double timeoutSeconds,
+                         const std::vector<std::string>& extraArgs = {});
+
+/// One row of results.csv.
+struct RunResult {
+  std::string caseName;
+  std::map<std::string, std::string> parameters;  ///< axis path -> value text
+  size_t particles = 0;
+  RunOutcome outcome;
+  std::map<std::string, double> metrics;  ///< name -> value
+  std::string primaryMetric;              ///< the metric plotted against time
+};
+
+/// Metrics of a finished shot for a validation type (reads the caches and the resolved scene).
+/// @throws InputError / IoError if the caches are missing or lack needed attributes.
+std::map<std::string, double> measureShot(Validation validation, const std::string& sceneFile,
+                                          const std::string& shotDir);
+/// The metric a validation type is judged by (plotted against wall time).
+std::string primaryMetric(Validation validation);
+
+struct StudyOptions {
+  std::string sphfxExe;         ///< the sphfx executable to run (normally /proc/self/exe)
+  std::vector<std::string> gl;  ///< extra args for simulate, e.g. {"--gl", "egl-surfaceless"}
+  bool keepShots = false;       ///< keep every run's caches (default: only the manifest and log)
+};
+
+/// Runs every case of the study into `outDir` and writes results.csv, error_vs_time.png (if gnuplot is
+/// installed; a warning otherwise) and report.md. Returns the results.
+/// @throws InputError for bad studies, IoError if outDir cannot be written.
+std::vector<RunResult> runStudy(const StudySpec& spec, const std::string& outDir,
+                                const StudyOptions& options);
+
+}  // namespace sphfx::study

@@ -1,0 +1,122 @@
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+#include "sphfx/core/error.h"
+#include "sphfx/core/frame_files.h"
+#include "sphfx/core/scene.h"
+#include "sphfx/study/metrics.h"
+#include "sphfx/study/study.h"
+
+namespace fs = std::filesystem;
+
+namespace sphfx::study {
+namespace {
+
+std::vector<ParticleFrame> readAllFrames(const std::string& shotDir) {
+  std::vector<ParticleFrame> frames;
+  for (int f : listFrames((fs::path(shotDir) / "cache").string(), "particles", "vdb"))
+    frames.push_back(readParticleCache(particleCachePath(shotDir, f)));
+  if (frames.empty()) throw InputError(shotDir + ": no cache frames to measure");
+  return frames;
+}
+
+double gravityMagnitude(const Scene& s) {
+  return std::hypot(s.gravity[0], s.gravity[1], s.gravity[2]);
+}
+
+/// Dam break: the column is the first fluid block; the wall behind it is its min x.
+std::map<std::string, double> measureDamBreak(const Scene& scene, const std::vector<ParticleFrame>& frames) {
+  static const MartinMoyce reference = MartinMoyce::load(referenceDirectory());
+  const FluidBlock& column = scene.fluid.blocks.front();
+  const double a = column.max[0] - column.min[0], wall = column.min[0], g = gravityMagnitude(scene);
+  std::vector<CurveSample> front, height;
+  for (const ParticleFrame& f : frames) {
+    front.push_back({f.time * std::sqrt(2 * g / a), surgeFront(f, wall) / a});
+    const double band = std::max(1.5 * scene.fluid.spacing, 0.05 * a);
+    height.push_back({f.time * std::sqrt(g / a), columnHeightAtWall(f, wall, band) / (2 * a)});
+  }
+  const CurveError fe = relativeError(front, reference.front, 3.0);
+  const CurveError he = relativeError(height, reference.height, reference.height.xMax());
+  return {{"front_rms", fe.rms},  {"front_max", fe.max},  {"front_samples", double(fe.samples)},
+          {"height_rms", he.rms}, {"height_max", he.max}, {"height_samples", double(he.samples)}};
+}
+
+/// Hydrostatic tank: the free surface height follows from mass conservation (the initial fill), an
+/// independent reference for the pressure profile.
+std::map<std::string, double> measureHydrostatic(const Scene& scene,
+                                                 const std::vector<ParticleFrame>& frames) {
+  const double g = gravityMagnitude(scene), rho0 = scene.fluid.restDensity, m = scene.particleMass();
+  const double H = scene.fluid.blocks.front().max[1];
+  const HydrostaticError e = hydrostaticError(frames.back(), rho0, g, H, scene.kernelRadius());
+  // Settled: kinetic energy below 1e-4 of the column's potential energy scale M g H, and staying there.
+  const double scale = m * double(frames.back().size()) * g * (H - scene.domain.min[1]);
+  double settle = frames.back().time;
+  for (size_t i = frames.size(); i-- > 0;) {
+    if (kineticEnergy(frames[i], m) > 1e-4 * scale) break;
+    settle = frames[i].time;
+  }
+  return {{"pressure_l2", e.pressureL2},
+          {"density_mean_error", std::fabs(e.meanDensityError)},
+          {"density_max_error", e.maxDensityError},
+          {"settle_time", settle}};
+}
+
+/// Poiseuille: plates are the domain's y walls; the body force is gravity's x component.
+std::map<std::string, double> measurePoiseuille(const Scene& scene,
+                                                const std::vector<ParticleFrame>& frames) {
+  const double L = scene.domain.max[1] - scene.domain.min[1], F = scene.gravity[0],
+               nu = scene.fluid.viscosity;
+  const int bins = std::max(4, int(std::lround(L / scene.fluid.spacing / 2)));
+  double sum = 0, last = 0;
+  int n = 0;
+  for (const ParticleFrame& f : frames) {
+    if (f.time <= 0) continue;
+    ParticleFrame shifted = f;  // the solution is written for plates at y = 0 and y = L
+    for (auto& p : shifted.position) p[1] -= float(scene.domain.min[1]);
+    last = poiseuilleProfileError(shifted, L, F, nu, bins);
+    sum += last;
+    ++n;
+  }
+  return {{"profile_l2_mean", n ? sum / n : 0}, {"profile_l2_final", last}};
+}
+
+}  // namespace
+
+std::string primaryMetric(Validation v) {
+  switch (v) {
+    case Validation::DamBreak:
+      return "front_rms";
+    case Validation::Hydrostatic:
+      return "pressure_l2";
+    case Validation::Poiseuille:
+      return "profile_l2_mean";
+  }
+  return "";
+}
+
+std::map<std::string, double> measureShot(Validation validation, const std::string& sceneFile,
+                                          const std::string& shotDir) {
+  const Scene scene = loadScene(sceneFile);
+  const std::vector<ParticleFrame> frames = readAllFrames(shotDir);
+  std::map<std::string, double> metrics;
+  switch (validation) {
+    case Validation::DamBreak:
+      metrics = measureDamBreak(scene, frames);
+      break;
+    case Validation::Hydrostatic:
+      metrics = measureHydrostatic(scene, frames);
+      break;
+    case Validation::Poiseuille:
+      metrics = measurePoiseuille(scene, frames);
+      break;
+  }
+  // Energy drift over the run, for every validation: how far total energy moved, relative to its start.
+  const double m = scene.particleMass(), g = -scene.gravity[1];
+  const double e0 = kineticEnergy(frames.front(), m) + potentialEnergy(frames.front(), m, g);
+  const double e1 = kineticEnergy(frames.back(), m) + potentialEnergy(frames.back(), m, g);
+  metrics["energy_change"] = e0 != 0 ? (e1 - e0) / std::fabs(e0) : 0;
+  return metrics;
+}
+
+}  // namespace sphfx::study

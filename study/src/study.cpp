@@ -1,0 +1,113 @@
+#include "sphfx/study/study.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <set>
+
+#include "sphfx/core/error.h"
+#include "sphfx/core/frame_files.h"
+#include "sphfx/core/log.h"
+#include "sphfx/core/scene.h"
+#include "sphfx/study/metrics.h"
+#include "sphfx/study/report.h"
+
+namespace fs = std::filesystem;
+
+namespace sphfx::study {
+namespace {
+
+/// A value as --set takes it: strings bare, everything else as JSON.
+std::string valueText(const Json& v) {
+  return v.is_string() ? v.get<std::string>() : v.dump();
+}
+
+/// Every combination of the axes' values, as (path, value) lists.
+std::vector<std::vector<std::pair<std::string, Json>>> gridPoints(const std::vector<Axis>& axes) {
+  std::vector<std::vector<std::pair<std::string, Json>>> points{{}};
+  for (const Axis& axis : axes) {
+    std::vector<std::vector<std::pair<std::string, Json>>> next;
+    for (const auto& p : points)
+      for (const Json& v : axis.values) {
+        auto q = p;
+        q.emplace_back(axis.path, v);
+        next.push_back(std::move(q));
+      }
+    points = std::move(next);
+  }
+  return points;
+}
+
+/// Writes the run's resolved scene (base file + case overrides + grid point) and returns its path.
+std::string writeRunScene(const StudySpec& spec, const StudyCase& c,
+                          const std::vector<std::pair<std::string, Json>>& point, const std::string& runDir,
+                          size_t& particles) {
+  const std::string base = (fs::path(spec.directory) / c.scene).string();
+  std::ifstream in(base);
+  if (!in) throw InputError(base + ": cannot open the scene of case \"" + c.name + "\"");
+  Json raw = Json::parse(in, nullptr, true, true);
+  for (const auto& o : c.set) applyOverride(raw, o);
+  for (const auto& [path, value] : point) applyOverride(raw, path + "=" + valueText(value));
+  const Scene scene = parseScene(raw, base + " (case " + c.name + ")");
+  particles = countInitialParticles(scene);
+  const std::string path = (fs::path(runDir) / "scene.json").string();
+  writeTextAtomically(path, sceneToJson(scene).dump(2) + "\n");
+  return path;
+}
+
+/// Keeps the manifest and log of a run, drops its caches (they can be large and are not needed once
+/// measured).
+void dropCaches(const std::string& shotDir) {
+  std::error_code ec;
+  fs::remove_all(fs::path(shotDir) / "cache", ec);
+}
+
+}  // namespace
+
+std::vector<RunResult> runStudy(const StudySpec& spec, const std::string& outDir,
+                                const StudyOptions& options) {
+  std::vector<RunResult> results;
+  size_t total = 0;
+  for (const StudyCase& c : spec.cases) total += gridPoints(c.axes).size();
+  Progress progress("study " + spec.name, int64_t(total));
+  fs::create_directories(outDir);
+  for (const StudyCase& c : spec.cases) {
+    size_t index = 0;
+    for (const auto& point : gridPoints(c.axes)) {
+      RunResult r;
+      r.caseName = c.name;
+      r.primaryMetric = primaryMetric(c.validation);
+      for (const auto& [path, value] : point) r.parameters[path] = valueText(value);
+      const std::string runDir =
+          (fs::path(outDir) / "runs" / fmt::format("{}-{:03d}", c.name, index++)).string();
+      fs::remove_all(runDir);
+      const std::string sceneFile = writeRunScene(spec, c, point, runDir, r.particles);
+      const std::string shotDir = (fs::path(runDir) / "shot").string();
+      r.outcome = runSimulation(options.sphfxExe, sceneFile, shotDir, spec.timeoutSeconds, options.gl);
+      if (r.outcome.status == RunStatus::Completed) {
+        try {
+          r.metrics = measureShot(c.validation, sceneFile, shotDir);
+        } catch (const Error& e) {
+          r.outcome.status = RunStatus::Failed;
+          r.outcome.message = std::string("cannot measure: ") + e.what();
+        }
+      }
+      if (!options.keepShots) dropCaches(shotDir);
+      results.push_back(std::move(r));
+      progress.update(int64_t(results.size()),
+                      fmt::format("{} {} {:.1f}s", c.name, toString(results.back().outcome.status),
+                                  results.back().outcome.wallSeconds));
+    }
+  }
+  progress.finish();
+  writeResultsCsv((fs::path(outDir) / "results.csv").string(), results);
+  const bool plotted = plotErrorAgainstTime(spec, results, outDir);
+  writeStudyReport(spec, results, outDir, plotted);
+  return results;
+}
+
+}  // namespace sphfx::study
