@@ -263,9 +263,12 @@ class Object {
   template <class C>
   Object& list(std::string name, std::vector<C> S::*member, std::shared_ptr<const Object<C>> schema,
                size_t minCount, size_t maxCount, std::string description) {
-    const std::string range =
-        "[" + std::to_string(minCount) + ", " +
-        (maxCount == std::numeric_limits<size_t>::max() ? "inf" : std::to_string(maxCount)) + "] entries";
+    // Built with += : GCC 12 warns falsely (-Wrestrict) on chains of string temporaries here.
+    std::string range = "[";
+    range += std::to_string(minCount);
+    range += ", ";
+    range += maxCount == std::numeric_limits<size_t>::max() ? std::string("inf") : std::to_string(maxCount);
+    range += "] entries";
     Field f = makeField(name, "array of objects", "[]", "", range, description);
     f.setDefault = [=](S& s) { (s.*member).clear(); };
     f.read = [=](const Json& j, const std::string& path, S& s) {

@@ -1,0 +1,57 @@
+#pragma once
+/// @file stability.h
+/// @brief `sphfx stability`: stiff and extreme cases, each run classified as stable, stopped cleanly (the
+/// health check caught it and named frame, substep and cause) or failed (crash, hang, error without
+/// frame/substep/cause, or garbage in a written cache). Also finds each solver's largest stable fixed
+/// time step per case and tracks energy for resting and sloshing cases.
+
+#include <string>
+#include <vector>
+
+#include "sphfx/study/study.h"
+
+namespace sphfx::study {
+
+struct StabilityCase {
+  std::string name;
+  std::string description;
+  std::string scene;              ///< relative to the suite file
+  std::vector<std::string> set;   ///< overrides
+  bool quick = false;             ///< part of the quick set (CI)
+  bool sweep = false;             ///< find the largest stable fixed dt
+  bool energy = false;            ///< report kinetic + potential energy over time
+  bool mayStop = false;           ///< a clean stop is an acceptable outcome (e.g. dt far above CFL)
+};
+
+struct StabilitySuite {
+  std::string name;
+  double timeoutSeconds = 0;
+  std::vector<std::string> solvers;
+  Json dtSweep;  ///< array of fixed time steps to try, increasing
+  std::vector<StabilityCase> cases;
+  std::string directory;
+};
+
+/// @throws InputError naming the file and JSON path.
+StabilitySuite loadStabilitySuite(const std::string& path);
+
+struct StabilityRun {
+  std::string caseName, solver;
+  double fixedDt = 0;  ///< 0: the case's own time step control
+  size_t particles = 0;
+  RunOutcome outcome;
+  bool acceptable = false;  ///< completed, or stopped cleanly where the case allows it
+  std::vector<std::pair<double, double>> energy;  ///< (time, kinetic + potential) when asked
+};
+
+struct StabilityReport {
+  std::vector<StabilityRun> runs;
+  size_t failed = 0;       ///< runs classified failed: must be zero
+  size_t unexpected = 0;   ///< runs that stopped although the case must stay stable
+};
+
+/// Runs the suite (the quick subset if `quick`) into `outDir` and writes stability.csv and stability.md.
+StabilityReport runStabilitySuite(const StabilitySuite& suite, bool quick, const std::string& outDir,
+                                  const StudyOptions& options);
+
+}  // namespace sphfx::study

@@ -1,0 +1,213 @@
+#include "sphfx/study/stability.h"
+
+#include <fmt/format.h>
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+
+#include "sphfx/core/error.h"
+#include "sphfx/core/frame_files.h"
+#include "sphfx/core/log.h"
+#include "sphfx/core/scene.h"
+#include "sphfx/study/metrics.h"
+
+namespace fs = std::filesystem;
+
+namespace sphfx::study {
+
+using schema::makeSchema;
+using schema::Object;
+using schema::Range;
+using schema::SchemaError;
+
+namespace {
+
+const Object<StabilitySuite>& suiteSchema() {
+  static const auto caseSchema = makeSchema<StabilityCase>([](Object<StabilityCase>& o) {
+    o.text("name", &StabilityCase::name, "", "Case name.")
+        .text("description", &StabilityCase::description, "", "What the case stresses.")
+        .text("scene", &StabilityCase::scene, "", "Scene file, relative to the suite file.")
+        .textList("set", &StabilityCase::set, "Overrides (path=value).")
+        .flag("quick", &StabilityCase::quick, false, "Part of the quick set run in CI.")
+        .flag("sweep", &StabilityCase::sweep, false, "Find the largest stable fixed time step.")
+        .flag("energy", &StabilityCase::energy, false, "Report kinetic + potential energy over time.")
+        .flag("may_stop", &StabilityCase::mayStop, false,
+              "A clean stop by the health check is an acceptable outcome for this case.")
+        .check([](const StabilityCase& c, const Json&, const std::string& path) {
+          if (c.name.empty() || c.scene.empty()) throw SchemaError(path, "a case needs a name and a scene");
+        });
+  });
+  static const auto schema = makeSchema<StabilitySuite>([](Object<StabilitySuite>& o) {
+    o.text("name", &StabilitySuite::name, "stability", "Suite name.")
+        .number("timeout", &StabilitySuite::timeoutSeconds, 600, "s", Range{0, 1e6, true, false},
+                "Wall-clock limit per run; over it the run is a failure (hang).")
+        .textList("solvers", &StabilitySuite::solvers, "Solvers every case runs with (solver.method values).")
+        .anyJson("dt_sweep", &StabilitySuite::dtSweep, Json::array(), "Fixed time steps tried, increasing (s).")
+        .list("cases", &StabilitySuite::cases, caseSchema, 1, 256, "The cases.")
+        .check([](const StabilitySuite& s, const Json&, const std::string& path) {
+          if (s.solvers.empty()) throw SchemaError(schema::childPath(path, "solvers"), "expected at least one solver");
+          if (!s.dtSweep.is_array()) throw SchemaError(schema::childPath(path, "dt_sweep"), "expected an array");
+          for (const auto& v : s.dtSweep)
+            if (!v.is_number() || !(v.get<double>() > 0))
+              throw SchemaError(schema::childPath(path, "dt_sweep"), "expected positive numbers");
+        });
+  });
+  return *schema;
+}
+
+std::vector<std::pair<double, double>> energyOverTime(const std::string& sceneFile, const std::string& shotDir) {
+  const Scene scene = loadScene(sceneFile);
+  const double m = scene.particleMass(), g = -scene.gravity[1];
+  std::vector<std::pair<double, double>> e;
+  for (int f : listFrames((fs::path(shotDir) / "cache").string(), "particles", "vdb")) {
+    const ParticleFrame p = readParticleCache(particleCachePath(shotDir, f));
+    e.emplace_back(p.time, kineticEnergy(p, m) + potentialEnergy(p, m, g));
+  }
+  return e;
+}
+
+StabilityRun runCase(const StabilitySuite& suite, const StabilityCase& c, const std::string& solver, double dt,
+                     const std::string& outDir, const StudyOptions& options) {
+  StabilityRun run;
+  run.caseName = c.name;
+  run.solver = solver;
+  run.fixedDt = dt;
+  const std::string label = dt > 0 ? fmt::format("{}-{}-dt{:g}", c.name, solver, dt) : c.name + "-" + solver;
+  const fs::path runDir = fs::path(outDir) / "runs" / label;
+  fs::remove_all(runDir);
+  fs::create_directories(runDir);
+
+  const std::string base = (fs::path(suite.directory) / c.scene).string();
+  std::ifstream in(base);
+  if (!in) throw InputError(base + ": cannot open the scene of stability case \"" + c.name + "\"");
+  Json raw = Json::parse(in, nullptr, true, true);
+  for (const auto& o : c.set) applyOverride(raw, o);
+  applyOverride(raw, "solver.method=" + solver);
+  if (dt > 0) {
+    applyOverride(raw, "time.dt_mode=fixed");
+    applyOverride(raw, fmt::format("time.dt={}", dt));
+  }
+  const Scene scene = parseScene(raw, base + " (stability case " + c.name + ")");
+  run.particles = countInitialParticles(scene);
+  const std::string sceneFile = (runDir / "scene.json").string();
+  writeTextAtomically(sceneFile, sceneToJson(scene).dump(2) + "\n");
+  const std::string shotDir = (runDir / "shot").string();
+  run.outcome = runSimulation(options.sphfxExe, sceneFile, shotDir, suite.timeoutSeconds, options.gl);
+  run.acceptable = run.outcome.status == RunStatus::Completed ||
+                   (run.outcome.status == RunStatus::StoppedCleanly && (c.mayStop || dt > 0));
+  if (c.energy && run.outcome.status == RunStatus::Completed && dt == 0) run.energy = energyOverTime(sceneFile, shotDir);
+  if (!options.keepShots) fs::remove_all(fs::path(shotDir) / "cache");
+  return run;
+}
+
+std::string energyText(const StabilityRun& r) {
+  if (r.energy.size() < 2) return {};
+  const double e0 = r.energy.front().second;
+  std::string t = fmt::format("\nEnergy (kinetic + potential) of `{}` with {}: relative change from the first frame\n\n"
+                              "| t (s) | E (J) | (E - E0)/|E0| |\n|---|---|---|\n",
+                              r.caseName, r.solver);
+  const size_t step = std::max<size_t>(1, r.energy.size() / 12);
+  for (size_t i = 0; i < r.energy.size(); i += step)
+    t += fmt::format("| {:.3f} | {:.6g} | {:+.2e} |\n", r.energy[i].first, r.energy[i].second,
+                     (r.energy[i].second - e0) / std::fabs(e0));
+  return t;
+}
+
+void writeStabilityOutputs(const StabilitySuite& suite, bool quick, const StabilityReport& report,
+                           const std::string& outDir) {
+  std::string csv = "case,solver,fixed_dt,particles,status,acceptable,wall_s,substeps,message\n";
+  for (const auto& r : report.runs)
+    csv += fmt::format("{},{},{},{},{},{},{:.2f},{},\"{}\"\n", r.caseName, r.solver, r.fixedDt, r.particles,
+                       toString(r.outcome.status), r.acceptable ? "yes" : "no", r.outcome.wallSeconds,
+                       r.outcome.substeps, r.outcome.message);
+  writeTextAtomically((fs::path(outDir) / "stability.csv").string(), csv);
+
+  std::string md = fmt::format("# Stability suite: {}{}\n\n{} runs; failed: {}; stopped although the case must "
+                               "stay stable: {}.\n\n| case | solver | particles | status | wall s | note |\n"
+                               "|---|---|---|---|---|---|\n",
+                               suite.name, quick ? " (quick set)" : "", report.runs.size(), report.failed,
+                               report.unexpected);
+  for (const auto& r : report.runs)
+    if (r.fixedDt == 0)
+      md += fmt::format("| {} | {} | {} | {} | {:.1f} | {} |\n", r.caseName, r.solver, r.particles,
+                        toString(r.outcome.status), r.outcome.wallSeconds, r.outcome.message);
+  // The largest fixed dt that completed, per case and solver.
+  std::map<std::pair<std::string, std::string>, std::pair<double, std::string>> largest;
+  for (const auto& r : report.runs) {
+    if (r.fixedDt == 0) continue;
+    auto& entry = largest[{r.caseName, r.solver}];
+    if (r.outcome.status == RunStatus::Completed && r.fixedDt > entry.first) entry.first = r.fixedDt;
+    if (r.outcome.status != RunStatus::Completed && entry.second.empty())
+      entry.second = fmt::format("{:g} s: {}", r.fixedDt, toString(r.outcome.status));
+  }
+  if (!largest.empty()) {
+    md += "\nLargest stable fixed time step (the largest tried that completed; the first larger one and how "
+          "it ended):\n\n| case | solver | largest stable dt (s) | first unstable |\n|---|---|---|---|\n";
+    for (const auto& [key, value] : largest)
+      md += fmt::format("| {} | {} | {} | {} |\n", key.first, key.second,
+                        value.first > 0 ? fmt::format("{:g}", value.first) : "none tried completed",
+                        value.second.empty() ? "(all tried completed)" : value.second);
+  }
+  md += "\nStopped runs and their causes:\n\n";
+  for (const auto& r : report.runs)
+    if (r.outcome.status != RunStatus::Completed)
+      md += fmt::format("- `{}` {}{}: {}: {}\n", r.caseName, r.solver,
+                        r.fixedDt > 0 ? fmt::format(" dt={:g}", r.fixedDt) : "", toString(r.outcome.status),
+                        r.outcome.message);
+  for (const auto& r : report.runs) md += energyText(r);
+  writeTextAtomically((fs::path(outDir) / "stability.md").string(), md);
+}
+
+}  // namespace
+
+StabilitySuite loadStabilitySuite(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path + ": cannot open the stability suite");
+  Json raw;
+  try {
+    raw = Json::parse(in, nullptr, true, true);
+  } catch (const Json::parse_error& e) {
+    throw InputError(path + ": invalid JSON: " + e.what());
+  }
+  StabilitySuite suite;
+  try {
+    suiteSchema().read(raw, "", suite);
+  } catch (const SchemaError& e) {
+    throw InputError(path + ": " + e.path() + ": " + e.message());
+  }
+  suite.directory = fs::path(path).parent_path().string();
+  return suite;
+}
+
+StabilityReport runStabilitySuite(const StabilitySuite& suite, bool quick, const std::string& outDir,
+                                  const StudyOptions& options) {
+  std::vector<std::tuple<const StabilityCase*, std::string, double>> plan;
+  for (const auto& c : suite.cases) {
+    if (quick && !c.quick) continue;
+    for (const auto& solver : suite.solvers) {
+      plan.emplace_back(&c, solver, 0.0);
+      if (c.sweep)
+        for (const auto& dt : suite.dtSweep) plan.emplace_back(&c, solver, dt.get<double>());
+    }
+  }
+  StabilityReport report;
+  Progress progress("stability", int64_t(plan.size()));
+  std::map<std::pair<std::string, std::string>, bool> sweepDone;
+  for (const auto& [c, solver, dt] : plan) {
+    // Once a sweep has failed to complete at some dt, larger ones are not run: they only cost time.
+    if (dt > 0 && sweepDone[{c->name, solver}]) continue;
+    StabilityRun run = runCase(suite, *c, solver, dt, outDir, options);
+    if (run.outcome.status == RunStatus::Failed) ++report.failed;
+    if (!run.acceptable && run.outcome.status == RunStatus::StoppedCleanly) ++report.unexpected;
+    if (dt > 0 && run.outcome.status != RunStatus::Completed) sweepDone[{c->name, solver}] = true;
+    progress.update(int64_t(report.runs.size() + 1),
+                    fmt::format("{} {} {}", c->name, solver, toString(run.outcome.status)));
+    report.runs.push_back(std::move(run));
+  }
+  progress.finish();
+  writeStabilityOutputs(suite, quick, report, outDir);
+  return report;
+}
+
+}  // namespace sphfx::study
