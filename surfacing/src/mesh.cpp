@@ -1,0 +1,160 @@
+// Level set to triangles, and the deterministic VDB writer.
+#include <openvdb/io/File.h>
+#include <openvdb/tools/Interpolation.h>
+#include <openvdb/tools/VolumeToMesh.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+#include "sphfx/core/error.h"
+#include "sphfx/core/frame_files.h"
+#include "sphfx/surfacing/surfacing.h"
+
+namespace sphfx::surfacing {
+namespace {
+
+using Vec3 = std::array<float, 3>;
+
+float dist2(const Vec3& a, const Vec3& b) {
+  const float x = a[0] - b[0], y = a[1] - b[1], z = a[2] - b[2];
+  return x * x + y * y + z * z;
+}
+
+/// Unit gradient of the level set at `p` (central differences of trilinear samples, half a voxel apart).
+Vec3 gradientNormal(
+    const openvdb::tools::GridSampler<openvdb::FloatGrid::ConstAccessor, openvdb::tools::BoxSampler>& s,
+    const Vec3& p, double h) {
+  double g[3];
+  for (int a = 0; a < 3; ++a) {
+    openvdb::Vec3R lo(p[0], p[1], p[2]), hi = lo;
+    lo[a] -= h;
+    hi[a] += h;
+    g[a] = s.wsSample(hi) - s.wsSample(lo);
+  }
+  const double len = std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+  if (!(len > 0)) return {0, 0, 0};
+  return {float(g[0] / len), float(g[1] / len), float(g[2] / len)};
+}
+
+/// Area-weighted face normal of vertex `v`'s triangles, for the rare vertex with a zero gradient.
+void fillMissingNormals(TriangleMesh& mesh) {
+  std::vector<uint8_t> missing(mesh.normals.size());
+  bool any = false;
+  for (size_t i = 0; i < mesh.normals.size(); ++i) {
+    missing[i] = mesh.normals[i] == Vec3{0, 0, 0};
+    any = any || missing[i];
+  }
+  if (!any) return;
+  std::vector<std::array<double, 3>> acc(mesh.normals.size(), {0, 0, 0});
+  for (const auto& t : mesh.triangles) {
+    const Vec3 &a = mesh.positions[t[0]], &b = mesh.positions[t[1]], &c = mesh.positions[t[2]];
+    const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]},
+                 w[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    const double n[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
+    for (uint32_t v : t)
+      for (int k = 0; k < 3; ++k) acc[v][k] += n[k];
+  }
+  for (size_t i = 0; i < acc.size(); ++i) {
+    if (!missing[i]) continue;
+    const double len = std::sqrt(acc[i][0] * acc[i][0] + acc[i][1] * acc[i][1] + acc[i][2] * acc[i][2]);
+    mesh.normals[i] = len > 0 ? Vec3{float(acc[i][0] / len), float(acc[i][1] / len), float(acc[i][2] / len)}
+                              : Vec3{0, 0, 1};
+  }
+}
+
+/// A UUID-formatted text derived from `bytes` (two FNV-1a 64-bit hashes with different seeds).
+std::string contentUuid(const std::string& bytes) {
+  uint64_t h[2] = {0xcbf29ce484222325ull, 0x84222325cbf29ce4ull};
+  for (unsigned char c : bytes)
+    for (auto& x : h) x = (x ^ c) * 0x100000001b3ull;
+  char hex[33];
+  std::snprintf(hex, sizeof hex, "%016llx%016llx", (unsigned long long)h[0], (unsigned long long)h[1]);
+  const std::string s(hex);
+  return s.substr(0, 8) + "-" + s.substr(8, 4) + "-" + s.substr(12, 4) + "-" + s.substr(16, 4) + "-" +
+         s.substr(20, 12);
+}
+
+// OpenVDB archive header: magic (8 bytes), file version (4), library major and minor (4 + 4), a "has
+// grid offsets" byte (1), then the 36-character UUID text.
+constexpr size_t kUuidOffset = 21, kUuidSize = 36;
+
+bool looksLikeUuid(const std::string& s) {
+  if (s.size() != kUuidSize) return false;
+  for (size_t i = 0; i < s.size(); ++i)
+    if ((i == 8 || i == 13 || i == 18 || i == 23) ? s[i] != '-'
+                                                  : !std::isxdigit(static_cast<unsigned char>(s[i])))
+      return false;
+  return true;
+}
+
+/// Replaces the random archive UUID of the VDB file at `path` by one derived from the rest of the file.
+void makeUuidDeterministic(const std::string& path) {
+  std::string bytes = readTextFile(path);
+  if (bytes.size() < kUuidOffset + kUuidSize || !looksLikeUuid(bytes.substr(kUuidOffset, kUuidSize)))
+    throw IoError(path + ": unexpected OpenVDB header layout (no archive UUID at byte 21)");
+  const std::string rest = bytes.substr(0, kUuidOffset) + bytes.substr(kUuidOffset + kUuidSize);
+  const std::string uuid = contentUuid(rest);
+  std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
+  f.seekp(std::streamoff(kUuidOffset));
+  f.write(uuid.data(), std::streamsize(uuid.size()));
+  if (!f) throw IoError(path + ": cannot rewrite the archive UUID");
+}
+
+}  // namespace
+
+TriangleMesh meshLevelSet(const openvdb::FloatGrid& grid, double adaptivity) {
+  std::vector<openvdb::Vec3s> points;
+  std::vector<openvdb::Vec3I> tris;
+  std::vector<openvdb::Vec4I> quads;
+  openvdb::tools::volumeToMesh(grid, points, tris, quads, 0.0, adaptivity, true);
+  TriangleMesh mesh;
+  mesh.positions.resize(points.size());
+  for (size_t i = 0; i < points.size(); ++i) mesh.positions[i] = {points[i][0], points[i][1], points[i][2]};
+  mesh.triangles.reserve(tris.size() + 2 * quads.size());
+  // volumeToMesh winds its polygons clockwise seen from outside; reverse them so normals point out.
+  for (const auto& t : tris) mesh.triangles.push_back({t[2], t[1], t[0]});
+  for (const auto& q : quads) {
+    // Split along the shorter diagonal: better-shaped triangles.
+    if (dist2(mesh.positions[q[0]], mesh.positions[q[2]]) <=
+        dist2(mesh.positions[q[1]], mesh.positions[q[3]])) {
+      mesh.triangles.push_back({q[2], q[1], q[0]});
+      mesh.triangles.push_back({q[3], q[2], q[0]});
+    } else {
+      mesh.triangles.push_back({q[3], q[1], q[0]});
+      mesh.triangles.push_back({q[3], q[2], q[1]});
+    }
+  }
+  mesh.normals.resize(points.size());
+  const double h = 0.5 * grid.voxelSize()[0];
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, points.size(), 4096), [&](const auto& r) {
+    openvdb::FloatGrid::ConstAccessor acc = grid.getConstAccessor();
+    openvdb::tools::GridSampler<openvdb::FloatGrid::ConstAccessor, openvdb::tools::BoxSampler> sampler(
+        acc, grid.transform());
+    for (size_t i = r.begin(); i != r.end(); ++i)
+      mesh.normals[i] = gradientNormal(sampler, mesh.positions[i], h);
+  });
+  fillMissingNormals(mesh);
+  return mesh;
+}
+
+void writeLevelSet(const std::string& path, const openvdb::FloatGrid& grid) {
+  writeFileAtomically(path, [&](const std::string& tmp) {
+    openvdb::io::File file(tmp);
+    file.setCompression(openvdb::io::Archive::hasBloscCompression()
+                            ? openvdb::io::COMPRESS_BLOSC | openvdb::io::COMPRESS_ACTIVE_MASK
+                            : openvdb::io::COMPRESS_ZIP | openvdb::io::COMPRESS_ACTIVE_MASK);
+    try {
+      file.write(openvdb::GridCPtrVec{grid.copyGrid()});
+    } catch (const openvdb::Exception& e) {
+      throw IoError(path + ": " + e.what());
+    }
+    file.close();
+    makeUuidDeterministic(tmp);
+  });
+}
+
+}  // namespace sphfx::surfacing

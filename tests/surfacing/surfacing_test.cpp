@@ -1,0 +1,168 @@
+// Geometry of the surfacing stage against analytic references (library level).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "sphfx/core/scene.h"
+#include "sphfx/surfacing/anisotropic.h"
+#include "sphfx/surfacing/surfacing.h"
+#include "test_util.h"
+
+namespace sphfx::surfacing {
+namespace {
+
+using test::measure;
+
+SurfaceParams defaultParams(SurfaceMethod method, double spacing) {
+  Scene scene;
+  sceneSchema().setDefaults(scene);
+  SurfaceOverrides o;
+  o.method = method;
+  SurfaceParams p = resolveParams(spacing, scene.surface, o);
+  p.surfaceOffset = calibrateOffset(p);
+  return p;
+}
+
+struct SphereErrors {
+  double volume, area;
+  size_t badEdges;
+};
+
+SphereErrors sphereErrors(SurfaceMethod method, double radiusInSpacings) {
+  const double r = 1.0, s = r / radiusInSpacings;
+  const SurfaceParams params = defaultParams(method, s);
+  const auto grid = buildLevelSet(test::sphereLattice(r, s), params);
+  const auto m = measure(meshLevelSet(*grid, params.adaptivity));
+  const double v0 = 4.0 / 3.0 * std::numbers::pi * r * r * r, a0 = 4 * std::numbers::pi * r * r;
+  std::printf("%-12s R/s %5.1f: volume %+.2f%%, area %+.2f%% (offset %.3f s)\n", methodName(method).c_str(),
+              radiusInSpacings, 100 * (m.volume - v0) / v0, 100 * (m.area - a0) / a0,
+              params.surfaceOffset / s);
+  return {std::abs(m.volume - v0) / v0, std::abs(m.area - a0) / a0, m.badEdges};
+}
+
+// Tolerances at the finest resolution (R = 16 spacings), per method: spheres volume 3 %, area 4.5 %;
+// zhu-bridson 4 % and 4 %; anisotropic 1.5 % and 1.5 %.
+struct SphereCase {
+  SurfaceMethod method;
+  double volumeTol, areaTol;
+};
+
+class SphereTest : public ::testing::TestWithParam<SphereCase> {};
+
+TEST_P(SphereTest, ClosedWithVolumeAndAreaConvergingToTheSphere) {
+  const SphereCase c = GetParam();
+  std::vector<SphereErrors> errors;
+  for (double res : {4.0, 8.0, 16.0}) errors.push_back(sphereErrors(c.method, res));
+  for (const auto& e : errors) EXPECT_EQ(e.badEdges, 0u) << "mesh not closed";
+  EXPECT_LT(errors.back().volume, c.volumeTol);
+  EXPECT_LT(errors.back().area, c.areaTol);
+  // Error falls as the resolution rises.
+  EXPECT_LT(errors[2].volume + errors[2].area, errors[0].volume + errors[0].area);
+  EXPECT_LT(errors[2].volume, errors[0].volume);
+}
+
+INSTANTIATE_TEST_SUITE_P(Methods, SphereTest,
+                         ::testing::Values(SphereCase{SurfaceMethod::Spheres, 0.03, 0.045},
+                                           SphereCase{SurfaceMethod::ZhuBridson, 0.04, 0.04},
+                                           SphereCase{SurfaceMethod::Anisotropic, 0.015, 0.015}),
+                         [](const auto& info) {
+                           std::string n = methodName(info.param.method);
+                           return n == "zhu-bridson" ? std::string("ZhuBridson") : n;
+                         });
+
+struct PoolTop {
+  double mean, rms;  ///< height of the top surface and its RMS deviation (m)
+};
+
+constexpr double kPoolSpacing = 0.1;
+constexpr int kPoolWidth = 24, kPoolDepth = 6;
+
+/// The top surface of a jittered resting pool: mesh vertices facing up, away from the walls.
+PoolTop poolTop(SurfaceMethod method, int smooth, double jitter) {
+  const double s = kPoolSpacing;
+  const int n = kPoolWidth;
+  SurfaceParams params = defaultParams(method, s);
+  params.smoothIterations = smooth;
+  params.surfaceOffset = calibrateOffset(params);
+  const auto grid = buildLevelSet(test::poolLattice(n, n, kPoolDepth, s, jitter), params);
+  const TriangleMesh mesh = meshLevelSet(*grid, 0);
+  double sum = 0, sum2 = 0;
+  int count = 0;
+  for (const auto& p : mesh.positions) {
+    const bool inner = p[0] > 4 * s && p[0] < (n - 4) * s && p[1] > 4 * s && p[1] < (n - 4) * s;
+    if (!inner || p[2] < (kPoolDepth - 2) * s) continue;
+    sum += p[2];
+    sum2 += double(p[2]) * p[2];
+    ++count;
+  }
+  EXPECT_GT(count, 100);
+  const double mean = sum / count;
+  const double rms = std::sqrt(std::max(0.0, sum2 / count - mean * mean));
+  std::printf(
+      "%-12s smoothing %d, jitter %.2f s: pool top at %.4f m (ideal %.4f), RMS deviation %.5f m = %.4f s\n",
+      methodName(method).c_str(), smooth, jitter, mean, kPoolDepth * s, rms, rms / s);
+  return {mean, rms};
+}
+
+// The kernels themselves, before any smoothing: union-of-spheres bumps against Yu-Turk's flat kernels.
+TEST(Pool, AnisotropicTopIsFlatterThanSpheres) {
+  const double spheres = poolTop(SurfaceMethod::Spheres, 0, 0.05).rms;
+  const double aniso = poolTop(SurfaceMethod::Anisotropic, 0, 0.05).rms;
+  EXPECT_LT(aniso, 0.25 * spheres);
+}
+
+// With the default settings every method puts the top where the particles' volume says (depth * s).
+TEST(Pool, DefaultTopSitsAtTheFluidVolume) {
+  for (auto m : {SurfaceMethod::Spheres, SurfaceMethod::ZhuBridson, SurfaceMethod::Anisotropic}) {
+    const PoolTop top = poolTop(m, 2, 0.05);
+    EXPECT_NEAR(top.mean, kPoolDepth * kPoolSpacing, 0.05 * kPoolSpacing) << methodName(m);
+    EXPECT_LT(top.rms, 0.05 * kPoolSpacing) << methodName(m);
+  }
+}
+
+TEST(Anisotropic, KernelShapes) {
+  const double s = 0.1;
+  AnisotropicSettings settings;
+  settings.spacing = s;
+  settings.support = 2 * s;
+  // An isolated particle: a small sphere (isotropic metric, support k_n * h).
+  const auto lone = computeAnisotropicKernels({{0, 0, 0}}, settings);
+  ASSERT_EQ(lone.size(), 1u);
+  EXPECT_NEAR(lone[0].metric[0], lone[0].metric[3], 1e-3 * lone[0].metric[0]);
+  EXPECT_NEAR(lone[0].metric[0], lone[0].metric[5], 1e-3 * lone[0].metric[0]);
+  EXPECT_NEAR(lone[0].extent, settings.support * settings.isolatedScale, 1e-6);
+  // A flat sheet in z = 0: the kernel of its centre particle is thin along z.
+  test::Points sheet;
+  for (int i = -5; i <= 5; ++i)
+    for (int j = -5; j <= 5; ++j) sheet.push_back({float(i * s), float(j * s), 0.f});
+  const auto k = computeAnisotropicKernels(sheet, settings)[60];
+  EXPECT_GT(k.metric[5], 4 * k.metric[0]) << "metric zz should dominate (short axis along z)";
+  // A thin stream along x: long along x.
+  test::Points line;
+  for (int i = -10; i <= 10; ++i) line.push_back({float(i * s * 0.5), 0.f, 0.f});
+  const auto l = computeAnisotropicKernels(line, settings)[10];
+  EXPECT_LT(l.metric[0] * 4, l.metric[3]) << "metric xx should be smallest (long axis along x)";
+}
+
+TEST(LevelSet, EmptyInputGivesEmptyLevelSet) {
+  const SurfaceParams params = defaultParams(SurfaceMethod::ZhuBridson, 0.1);
+  const auto grid = buildLevelSet({}, params);
+  EXPECT_EQ(grid->activeVoxelCount(), 0u);
+  EXPECT_EQ(grid->getGridClass(), openvdb::GRID_LEVEL_SET);
+  EXPECT_TRUE(meshLevelSet(*grid, 0).triangles.empty());
+}
+
+TEST(LevelSet, SmallRadiusIsWarnedNotDropped) {
+  SurfaceParams params = defaultParams(SurfaceMethod::Spheres, 0.1);
+  params.radius = 0.5 * params.voxelSize;
+  params.calibrate = false;
+  LevelSetReport report;
+  const auto grid = buildLevelSet({{0, 0, 0}, {1, 0, 0}}, params, &report);
+  ASSERT_FALSE(report.warnings.empty());
+  EXPECT_NE(report.warnings[0].find("voxel"), std::string::npos);
+  EXPECT_GT(grid->activeVoxelCount(), 0u) << "particles below OpenVDB's minimum radius were dropped";
+}
+
+}  // namespace
+}  // namespace sphfx::surfacing
