@@ -16,5 +16,6 @@ std::shared_ptr<std::vector<std::string>> addSetOption(CLI::App* cmd);
 
 void addInfoCommand(CLI::App& app);
 void addSceneCommand(CLI::App& app);
+void addSurfaceCommand(CLI::App& app);
 
 }  // namespace sphfx::cli

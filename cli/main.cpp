@@ -21,6 +21,7 @@ int main(int argc, char** argv) {
 
   sphfx::cli::addInfoCommand(app);
   sphfx::cli::addSceneCommand(app);
+  sphfx::cli::addSurfaceCommand(app);
 
   try {
     app.parse(argc, argv);
