@@ -1,0 +1,36 @@
+// DFSPH solver iteration, between source and apply: sums the work groups' residuals in a fixed order
+// (deterministic), and ends the solve on the GPU once the average error is within tolerance after
+// DFSPH_MIN_ITER corrections, or after DFSPH_MAX_ITER: it empties the solve's indirect dispatches, so
+// the CPU queues iterations without reading back each one. Records the solve in the frame statistics.
+#include "sph_params.glsl"
+#include "sph_dfsph.glsl"
+layout(local_size_x = 256) in;
+layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_PARTIAL) readonly buffer DfsphPartial { float partial[]; };
+shared float sums[256];
+
+void main() {
+  uint l = gl_LocalInvocationIndex;
+  float s = 0.0;
+  for (uint k = l; k < uint(DFSPH_GROUPS); k += 256u) s += partial[k];
+  sums[l] = s;
+  for (uint w = 128u; w > 0u; w >>= 1u) {
+    barrier();
+    if (l < w) sums[l] += sums[l + w];
+  }
+  if (l != 0u) return;
+  float error = sums[0] / float(simCounts.x);
+  uint it = dfIteration;
+  dfLastError = error;
+  if ((it >= uint(DFSPH_MIN_ITER) && error <= DFSPH_TOLERANCE) || it >= uint(DFSPH_MAX_ITER)) {
+    dfOpen = 0u;
+    for (uint k = 0u; k < 9u; ++k) dfArgs[k] = 0u;
+    uint S = uint(DFSPH_SOLVE);
+    dfSolves[S] += 1u;
+    dfIterSum[S] += it;
+    dfIterMax[S] = max(dfIterMax[S], it);
+    dfErrorSum[S] += error;
+    dfErrorMax[S] = max(dfErrorMax[S], error);
+  } else {
+    dfIteration = it + 1u;
+  }
+}

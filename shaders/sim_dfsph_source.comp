@@ -1,0 +1,90 @@
+// DFSPH solver iteration, part 1 (Bender & Koschier 2017, algorithms 2 and 3): the residual of every
+// particle and its stiffness increment, and per work group the residual sum (a fixed-order tree, so the
+// average is deterministic).
+//   DFSPH_DIVERGENCE: residual max(D rho / Dt, 0) of the current velocities; increment residual * factor.
+//   otherwise: predicted density rho* = rho + dt D rho / Dt of v* = v + dt a, residual max(rho* - rho0, 0);
+//   increment residual * factor / dt^2.
+// uWarm: the first pass of a solve: the increment is the last step's stiffness total where the particle
+// is compressed (warm start), zero elsewhere.
+#include "sph_params.glsl"
+#include "sph_kernels.glsl"
+#include "sph_dfsph.glsl"
+layout(local_size_x = SIM_WG) in;
+layout(std430, binding = SPHFX_SSBO_SIM_POS) readonly buffer SimPos { vec4 pos[]; };
+layout(std430, binding = SPHFX_SSBO_SIM_VEL) readonly buffer SimVel { vec4 vel[]; };
+layout(std430, binding = SPHFX_SSBO_SIM_DENSITY) readonly buffer SimDensity { vec2 densityPressure[]; };
+layout(std430, binding = SPHFX_SSBO_SIM_CELL_START) readonly buffer SimCellStart { uint cellStart[]; };
+layout(std430, binding = SPHFX_SSBO_SIM_BOUNDARY_POS) readonly buffer SimBoundaryPos { vec4 bpos[]; };
+layout(std430, binding = SPHFX_SSBO_SIM_BOUNDARY_VEL) readonly buffer SimBoundaryVel { vec4 bvel[]; };
+layout(std430, binding = SPHFX_SSBO_SIM_BOUNDARY_CELL_START) readonly buffer SimBoundaryStart {
+  uint bStart[];
+};
+layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_INCREMENT) writeonly buffer DfsphIncrement { float increment[]; };
+layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_PARTIAL) writeonly buffer DfsphPartial { float partial[]; };
+#if defined(DFSPH_DIVERGENCE)
+layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_WARM) readonly buffer DfsphWarm { float warm[]; };
+#else
+layout(std430, binding = SPHFX_SSBO_SIM_ACCEL) readonly buffer SimAccel { vec4 accel[]; };
+#endif
+uniform uint uWarm;
+shared float groupSum[SIM_WG];
+
+vec3 velocity(uint j) {
+#if defined(DFSPH_DIVERGENCE)
+  return vel[j].xyz;
+#else
+  return vel[j].xyz + stateDt * accel[j].xyz;
+#endif
+}
+
+// D rho_i / Dt = sum_j m (v_i - v_j) . grad W_ij + sum_b psi_b (v_i - v_b) . grad W_ib
+float densityChange(uint i) {
+  vec3 xi = pos[i].xyz, vi = velocity(i);
+  ivec3 cell = sphCell(xi);
+  float fluid = 0.0, wall = 0.0;
+  for (int dz = -1; dz <= 1; ++dz)
+    for (int dy = -1; dy <= 1; ++dy) {
+      uint first, last;
+      if (!sphRow(cell, dy, dz, first, last)) continue;
+      for (uint j = cellStart[first], e = cellStart[last]; j < e; ++j) {
+        vec3 d = xi - pos[j].xyz;
+        if (dot(d, d) < simKernel.w && j != i) fluid += dot(vi - velocity(j), dfsphGrad(d));
+      }
+      for (uint j = bStart[first], e = bStart[last]; j < e; ++j) {
+        vec4 b = bpos[j];
+        vec3 d = xi - b.xyz;
+        if (dot(d, d) < simKernel.w) wall += b.w * dot(vi - bvel[j].xyz, dfsphGrad(d));
+      }
+    }
+  return simGravity.w * fluid + wall;
+}
+
+void main() {
+  uint i = sphfxGlobalIndex();
+  float residual = 0.0;
+  if (i < simCounts.x) {
+    vec4 f = dfsph[i];
+    float inc;
+#if defined(DFSPH_DIVERGENCE)
+    // Too few neighbours (free surface, splashes): the divergence estimate is meaningless there.
+    residual = f.y >= DFSPH_MIN_NEIGHBOURS ? max(densityChange(i), 0.0) : 0.0;
+    inc = residual * f.x;
+    // The first substep of a frame starts cold, so that a restart file (positions, velocities) resumes
+    // bit-identically.
+    if (uWarm != 0u) inc = (residual > 0.0 && stateSubsteps > 0u) ? warm[floatBitsToUint(pos[i].w)] : 0.0;
+#else
+    float dt = stateDt;
+    residual = max(densityPressure[i].x + dt * densityChange(i) - simFluid.x, 0.0);
+    inc = residual * f.x / (dt * dt);
+    if (uWarm != 0u) inc = residual > 0.0 ? vel[i].w : 0.0;
+#endif
+    increment[i] = inc;
+  }
+  uint l = gl_LocalInvocationIndex;
+  groupSum[l] = residual / simFluid.x;
+  for (uint s = SIM_WG / 2u; s > 0u; s >>= 1u) {
+    barrier();
+    if (l < s) groupSum[l] += groupSum[l + s];
+  }
+  if (l == 0u) partial[gl_WorkGroupID.x] = groupSum[0];
+}

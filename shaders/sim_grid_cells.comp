@@ -1,0 +1,22 @@
+// Neighbour grid, pass 1: cell of each item and its rank among the items of that cell (atomic count).
+// The rank's order is arbitrary; sim_grid_sort.comp makes the final order deterministic.
+layout(local_size_x = 64) in;
+layout(std430, binding = 0) readonly buffer GridSrcPos { vec4 srcPos[]; };
+layout(std430, binding = SPHFX_SSBO_SIM_CELL_START) buffer GridCellCount { uint cellCount[]; };
+layout(std430, binding = SPHFX_SSBO_SIM_GRID_CELL_RANK) writeonly buffer GridCellRank { uvec2 cellRank[]; };
+uniform uint uItemCount;
+uniform vec3 uGridMin;
+uniform float uInvCellSize;
+uniform ivec3 uDims;
+
+void main() {
+  uint i = sphfxGlobalIndex();
+  if (i >= uItemCount) return;
+  vec3 g = (srcPos[i].xyz - uGridMin) * uInvCellSize;
+  // Items more than one cell outside the grid (collider samples below the floor, NaN) can never be
+  // within h of a particle: they go to the extra cell at index dims.x*dims.y*dims.z, never visited.
+  uint outside = uint(uDims.x * uDims.y * uDims.z);
+  bool inReach = all(greaterThanEqual(g, vec3(-1.0))) && all(lessThan(g, vec3(uDims) + 1.0));
+  uint cell = inReach ? sphfxCellIndex(ivec3(floor(g)), uDims) : outside;
+  cellRank[i] = uvec2(cell, atomicAdd(cellCount[cell], 1u));
+}

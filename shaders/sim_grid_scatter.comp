@@ -1,0 +1,13 @@
+// Neighbour grid, pass 3 (after the scan turned counts into starts): slot of each item.
+layout(local_size_x = 64) in;
+layout(std430, binding = SPHFX_SSBO_SIM_CELL_START) readonly buffer GridCellStart { uint cellStart[]; };
+layout(std430, binding = SPHFX_SSBO_SIM_GRID_CELL_RANK) readonly buffer GridCellRank { uvec2 cellRank[]; };
+layout(std430, binding = SPHFX_SSBO_SIM_GRID_SORTED) writeonly buffer GridSorted { uint sortedIndex[]; };
+uniform uint uItemCount;
+
+void main() {
+  uint i = sphfxGlobalIndex();
+  if (i >= uItemCount) return;
+  uvec2 cr = cellRank[i];
+  sortedIndex[cellStart[cr.x] + cr.y] = i;
+}

@@ -1,0 +1,28 @@
+// Neighbour grid, pass 4, one invocation per cell: sorts the cell's run of source indices (insertion
+// sort; a cell holds about (h / spacing)^3 items), so the order is that of the previous step, i.e. a
+// stable counting sort and deterministic; then gathers the items into the sorted arrays.
+layout(local_size_x = 64) in;
+layout(std430, binding = 0) readonly buffer GridSrcPos { vec4 srcPos[]; };
+layout(std430, binding = 1) readonly buffer GridSrcVel { vec4 srcVel[]; };
+layout(std430, binding = 2) writeonly buffer GridDstPos { vec4 dstPos[]; };
+layout(std430, binding = 3) writeonly buffer GridDstVel { vec4 dstVel[]; };
+layout(std430, binding = SPHFX_SSBO_SIM_CELL_START) readonly buffer GridCellStart { uint cellStart[]; };
+layout(std430, binding = SPHFX_SSBO_SIM_GRID_SORTED) buffer GridSorted { uint sortedIndex[]; };
+uniform uint uCellCount;  // cells in the grid, without the out-of-reach cell (never visited)
+
+void main() {
+  uint c = sphfxGlobalIndex();
+  if (c >= uCellCount) return;
+  uint b = cellStart[c], e = cellStart[c + 1u];
+  for (uint k = b + 1u; k < e; ++k) {
+    uint key = sortedIndex[k];
+    uint m = k;
+    for (; m > b && sortedIndex[m - 1u] > key; --m) sortedIndex[m] = sortedIndex[m - 1u];
+    sortedIndex[m] = key;
+  }
+  for (uint k = b; k < e; ++k) {
+    uint s = sortedIndex[k];
+    dstPos[k] = srcPos[s];
+    dstVel[k] = srcVel[s];
+  }
+}

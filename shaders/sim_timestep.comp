@@ -1,0 +1,68 @@
+// One invocation per substep, between the force and the integration pass: checks the substep's
+// reductions (health), picks dt (fixed or CFL), lands the last substep exactly on the frame time, and
+// empties the later indirect dispatches once the frame is reached, so the CPU can queue substeps in
+// batches and read back only once per batch.
+#include "sph_params.glsl"
+layout(local_size_x = 1) in;
+// [0, 3n): indirect dispatch arguments; [3n, 6n): their live values. Entry 0 is the integration.
+layout(std430, binding = SPHFX_SSBO_SIM_DISPATCH) buffer SimDispatch { uint dispatchArgs[]; };
+
+void closeDispatches(uint firstEntry) {
+  for (uint k = firstEntry * 3u; k < simCounts.w * 3u; ++k) dispatchArgs[k] = 0u;
+}
+
+bool finite(float x) { return !isnan(x) && !isinf(x); }
+
+float chooseDt(float speed2, float accel2) {
+  if (simStep.w > 0.0) return simStep.w;
+  float h = simDomainMin.w;
+  float dt = simStep.x * h / (simFluid.w + sqrt(speed2));
+  if (accel2 > 0.0) dt = min(dt, simStep.z * sqrt(h / sqrt(accel2)));
+#if defined(VISCOSITY_LAPLACIAN)
+  if (simViscosity.x > 0.0) dt = min(dt, simStep.y * h * h / simViscosity.x);
+#endif
+  return dt;
+}
+
+void main() {
+  if (stateDone != 0u) {
+    closeDispatches(0u);
+    return;
+  }
+  float speed2 = uintBitsToFloat(stateMaxSpeed2), accel2 = uintBitsToFloat(stateMaxAccel2);
+  float rho = uintBitsToFloat(stateMaxDensity);
+  uint fail = 0u;
+  if (!finite(speed2) || !finite(accel2) || !finite(rho)) fail |= SIM_FAIL_NONFINITE;
+  if (speed2 > simLimits.w * simLimits.w) fail |= SIM_FAIL_SPEED;
+  if (rho > simLimits.z) fail |= SIM_FAIL_DENSITY;
+  float dt = chooseDt(speed2, accel2);
+  if (simStep.w == 0.0 && !(dt >= simLimits.x)) fail |= SIM_FAIL_DT;
+  if (fail != 0u) {
+    stateFailure = fail;
+    stateFailSubstep = stateSubsteps + 1u;
+    stateDone = 1u;
+    closeDispatches(0u);
+    return;
+  }
+  // Reset the reductions only on success: on failure the CPU reads them for the error message.
+  stateMaxSpeed2 = 0u;
+  stateMaxAccel2 = 0u;
+  stateMaxDensity = 0u;
+  if (simStep.w == 0.0) dt = min(dt, simLimits.y);
+  // Land on the frame: the last step takes what remains; when less than two steps remain, split the
+  // rest in halves rather than leave a sliver.
+  double remaining = stateFrameEnd - stateTime;
+  bool last = double(dt) >= remaining;
+  if (last) dt = float(remaining);
+  else if (2.0lf * double(dt) > remaining) dt = float(remaining * 0.5lf);
+  stateDt = dt;
+  stateTime = last ? stateFrameEnd : stateTime + double(dt);
+  stateSubsteps += 1u;
+  stateDtSum += double(dt);
+  stateDtLow = min(stateDtLow, dt);
+  stateDtHigh = max(stateDtHigh, dt);
+  if (last) {
+    stateDone = 1u;
+    closeDispatches(1u);  // keep this substep's integration
+  }
+}

@@ -1,0 +1,94 @@
+#pragma once
+/// @file dfsph_solver.h
+/// @brief Divergence-free SPH (Bender & Koschier 2015, "Divergence-free smoothed particle hydrodynamics";
+/// 2017, "Divergence-free SPH for incompressible and viscous fluids") on the GPU. Per substep, with the
+/// positions of the substep start:
+///   computeAccelerations: density and DFSPH factor alpha_i / rho_i (Akinci 2012 boundary samples in the
+///     density and the gradient sum), the divergence solver (velocities made divergence-free), then
+///     gravity and viscosity as the acceleration; max |v| for the flow-speed CFL step;
+///   correctVelocities (after the time step pass chose dt): the constant-density solver adds the
+///     pressure acceleration so that the predicted density rho + dt D rho/Dt reaches rest density;
+///   the shared symplectic Euler integration then moves the particles.
+/// Both solvers are Jacobi iterations on the GPU, warm-started from the previous substep's stiffness
+/// totals, with the average error reduced deterministically on the GPU; the GPU ends a solve by emptying
+/// its indirect dispatches, and the CPU checks that flag only every kCheckEvery iterations.
+
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "sphfx/core/gpu_buffer.h"
+#include "sphfx/core/scene.h"
+#include "sphfx/core/shader_program.h"
+#include "sphfx/sim/dispatch_gate.h"
+#include "sphfx/sim/pass_timer.h"
+#include "sphfx/sim/wcsph_solver.h"
+
+namespace sphfx::sim {
+
+/// std430 block DfsphControl (shaders/sph_dfsph.glsl): the running solve and the frame statistics,
+/// index 0 the constant-density solver, 1 the divergence solver.
+struct DfsphControl {
+  uint32_t iteration;
+  uint32_t open;
+  uint32_t solves[2];
+  uint32_t iterSum[2];
+  uint32_t iterMax[2];
+  float errorSum[2];
+  float errorMax[2];
+  float lastError;
+  uint32_t pad;
+  uint32_t args[18];  ///< indirect arguments of source, reduce, apply; then their live values
+};
+
+/// DFSPH solve statistics of the frame simulated last.
+struct DfsphFrameStats {
+  int solves = 0;                 ///< constant-density solves (one per substep)
+  double pressureIterations = 0;  ///< mean corrections per constant-density solve
+  double divergenceIterations = 0;
+  int maxPressureIterations = 0, maxDivergenceIterations = 0;
+  double densityError = 0;     ///< mean over the solves of the final average density error (/ rho0)
+  double maxDensityError = 0;  ///< largest final average density error of a solve
+  double divergenceError = 0;  ///< mean final average max(D rho/Dt, 0) / rho0 (1/s)
+  double maxDivergenceError = 0;
+};
+
+class DFSPHSolver : public PressureSolver {
+ public:
+  /// Builds the programs (tolerances and iteration limits are compiled in) and buffers for `particles`.
+  /// @throws GLError if a program does not build.
+  DFSPHSolver(const Scene& scene, const DispatchGate& gate, const ShaderDefines& defines, uint32_t particles);
+  const char* name() const override { return "dfsph"; }
+  void computeAccelerations(PassTimer& timer) const override;
+  void correctVelocities(PassTimer& timer) const override;
+  void computeDensity(PassTimer& timer) const override;
+  /// Per-frame statistics for the manifest: mean iterations and final errors of both solvers.
+  std::vector<std::pair<std::string, double>> frameStats() const override;
+
+  /// Reads the statistics of the frames since the last frame start from the GPU (synchronises).
+  DfsphFrameStats readFrameStats() const;
+
+  /// The CPU looks at the GPU's convergence flag after this many queued iterations.
+  static constexpr int kCheckEvery = 3;
+
+ private:
+  struct Solve {
+    ShaderProgram begin, source, reduce, apply;
+  };
+  Solve makeSolve(ShaderDefines defines, bool divergence, double tolerance, uint32_t gateWord) const;
+  void run(const Solve& s, const char* label, PassTimer& timer) const;
+  void bind() const;
+  void dispatch(const ShaderProgram& p, uint32_t entry, const char* label) const;
+  bool open() const;
+
+  const DispatchGate* gate_;
+  uint32_t particles_, groups_;
+  int minIterations_, maxIterations_;
+  double minNeighbours_;
+  GpuBuffer particle_, increment_, warm_, partial_, control_;
+  ShaderProgram factor_, nonPressure_;
+  Solve density_, divergence_;
+};
+
+}  // namespace sphfx::sim

@@ -1,0 +1,96 @@
+#pragma once
+/// @file gpu_types.h
+/// @brief C++ mirrors of the simulation's GLSL blocks (shaders/sph_params.glsl, sph_colliders.glsl),
+/// and the scene-derived constants that fill them.
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "sphfx/core/gpu_layout.h"
+#include "sphfx/core/scene.h"
+#include "sphfx/core/shader_program.h"
+
+namespace sphfx::sim {
+
+/// std140 uniform block SimParams: scene constants of every solver pass.
+struct SimParams {
+  float domainMin[4];   ///< xyz; w: kernel support radius h
+  float domainMax[4];   ///< xyz; w: particle spacing
+  float gravity[4];     ///< xyz; w: particle mass
+  int32_t gridDims[4];  ///< xyz: cells; w: number of cells
+  float kernel[4];      ///< poly6 factor, spiky gradient factor, viscosity Laplacian factor, h^2
+  float fluid[4];       ///< rest density, EOS stiffness (k or Tait B), gamma, speed of sound
+  float viscosity[4];   ///< kinematic viscosity, Monaghan alpha, wall clamp margin, unused
+  float step[4];        ///< CFL, viscous and force factors, fixed dt (0: CFL)
+  float limits[4];      ///< dt_min, dt_max, health max density, health max speed
+  uint32_t counts[4];   ///< particles, boundary samples, colliders, dispatch argument entries
+};
+
+/// std430 shader storage block SimStateBlock: time, dt, per-substep reductions and health counters.
+struct SimState {
+  double frameEnd;
+  double time;
+  double dtSum;
+  float dt;
+  uint32_t done;
+  uint32_t substeps;
+  uint32_t failure;
+  uint32_t failSubstep;
+  uint32_t maxSpeed2;  ///< float bits
+  uint32_t maxAccel2;
+  uint32_t maxDensity;
+  float dtLow;
+  float dtHigh;
+  uint32_t healthCount[4];  ///< non-finite, outside the domain, too fast, too dense
+  uint32_t healthFirst[4];  ///< smallest offending id per cause
+};
+
+/// Failure bits of SimState::failure (shaders/sph_params.glsl).
+enum SimFailure : uint32_t { kFailNonFinite = 1, kFailSpeed = 2, kFailDensity = 4, kFailDt = 8 };
+
+/// One element of the std430 array SimColliders::colliders[].
+struct ColliderGpu {
+  float shapeA[4];   ///< box: min corner; sphere: centre and radius
+  float shapeB[4];   ///< box: max corner
+  uint32_t info[4];  ///< shape (0 box, 1 sphere), first key, key count
+};
+
+/// Normalisation factors of the kernels for support radius h (Mueller et al. 2003).
+struct KernelFactors {
+  double poly6;               ///< W(r) = poly6 (h^2 - r^2)^3
+  double spikyGradient;       ///< grad W(r) = spikyGradient (h - r)^2 r/|r| (negative)
+  double viscosityLaplacian;  ///< lap W(r) = viscosityLaplacian (h - r)
+};
+KernelFactors kernelFactors(double h);
+
+/// Particle mass that puts the initial cubic lattice exactly at rest density with the poly6 kernel:
+/// rho0 / sum_j W(x_j) over the lattice. (The nominal rho0 spacing^3 is a few percent off at h = 2
+/// spacings, which would compress or expand the fluid in the first steps.)
+double calibratedParticleMass(const Scene& scene);
+
+/// Cells of the neighbour grid over the domain (cell size h).
+std::array<int, 3> gridDims(const Scene& scene);
+
+/// Distance particles are kept inside the domain walls and outside colliders by the last-resort clamp.
+double clampMargin(const Scene& scene);
+
+/// Speed of sound used by the acoustic CFL condition and the artificial viscosity: Tait's c, or
+/// sqrt(k) for the linear EOS.
+double speedOfSound(const Scene& scene);
+
+/// The uniform block for a scene.
+SimParams makeSimParams(const Scene& scene, uint32_t particles, uint32_t boundarySamples,
+                        uint32_t dispatchEntries);
+
+/// Work group size of the per-particle passes.
+constexpr int kSimWorkGroup = 64;
+
+/// Shader variant switches of a scene: EOS, viscosity model, colliders. Leaves out what the scene does
+/// not use.
+ShaderDefines simShaderDefines(const Scene& scene);
+
+/// Every C++-mirrored block of the simulation stage, for the layout tests.
+std::vector<GpuBlockLayout> simGpuLayouts();
+
+}  // namespace sphfx::sim

@@ -1,0 +1,58 @@
+#pragma once
+/// @file neighbor_grid.h
+/// @brief Uniform-grid neighbour search on the GPU (cell size = kernel radius h): a counting sort of
+/// items by cell. Cell of each item with atomic counts, an exclusive parallel scan of the counts into
+/// cell starts, scatter, then a per-cell sort by source index (a stable counting sort, hence a
+/// deterministic order) that gathers the items into cell-ordered arrays. Solver passes then visit the
+/// 3x3 rows of cells around a particle as 9 contiguous ranges.
+
+#include <array>
+#include <cstdint>
+
+#include "sphfx/core/gpu_buffer.h"
+#include "sphfx/core/scene.h"
+#include "sphfx/core/shader_program.h"
+#include "sphfx/sim/dispatch_gate.h"
+#include "sphfx/sim/parallel_scan.h"
+
+namespace sphfx::sim {
+
+struct GridSpec {
+  std::array<float, 3> min{};
+  float cellSize = 1;
+  std::array<int, 3> dims{1, 1, 1};
+  /// Cells in the grid. Index cells() is the extra cell of items out of reach (never visited).
+  uint32_t cells() const { return uint32_t(dims[0]) * uint32_t(dims[1]) * uint32_t(dims[2]); }
+  /// The scene's domain with cells of the kernel radius.
+  static GridSpec forScene(const Scene& scene);
+};
+
+class NeighborGrid {
+ public:
+  /// Buffers and programs for `items` items. Registers its dispatches with `gate`.
+  /// @throws GLError if a program does not build.
+  NeighborGrid(DispatchGate& gate, const GridSpec& spec, uint32_t items);
+
+  /// Sorts the items (vec4 srcPos/srcVel, `items` of each) by cell into dstPos/dstVel. GPU work only.
+  void build(const GpuBuffer& srcPos, const GpuBuffer& srcVel, const GpuBuffer& dstPos,
+             const GpuBuffer& dstVel) const;
+
+  /// cells() + 2 entries: the items of cell c are the sorted slots [start[c], start[c + 1]).
+  const GpuBuffer& cellStart() const { return cellStart_; }
+  /// Source index of each sorted slot.
+  const GpuBuffer& sortedIndex() const { return sorted_; }
+  const GridSpec& spec() const { return spec_; }
+  uint32_t items() const { return items_; }
+
+ private:
+  const DispatchGate* gate_;
+  GridSpec spec_;
+  uint32_t items_;
+  mutable GpuBuffer cellStart_;  // cleared by every build
+  GpuBuffer cellRank_, sorted_;
+  ExclusiveScan scan_;
+  ShaderProgram cells_, scatter_, sort_;
+  uint32_t itemEntry_, cellEntry_;
+};
+
+}  // namespace sphfx::sim

@@ -1,0 +1,40 @@
+#pragma once
+/// @file parallel_scan.h
+/// @brief Exclusive prefix sum of 32-bit counts on the GPU: work-group scans of 1024 values (Blelloch-
+/// style blocks with a Hillis-Steele scan in shared memory), recursing on the block totals, then adding
+/// the scanned totals back. Used by the neighbour grid to turn cell counts into cell starts.
+
+#include <cstdint>
+#include <vector>
+
+#include "sphfx/core/gpu_buffer.h"
+#include "sphfx/core/shader_program.h"
+#include "sphfx/sim/dispatch_gate.h"
+
+namespace sphfx::sim {
+
+class ExclusiveScan {
+ public:
+  /// Prepares the level buffers for `count` values and registers its dispatches with `gate`.
+  /// @throws GLError if the programs do not build.
+  ExclusiveScan(DispatchGate& gate, uint32_t count);
+
+  /// Replaces data[0, count) with its exclusive prefix sum (data[0] = 0). Queues GPU work only.
+  void run(const GpuBuffer& data) const;
+  uint32_t count() const { return count_; }
+
+  static constexpr uint32_t kBlock = 1024;
+
+ private:
+  struct Level {
+    uint32_t count;  // values scanned at this level
+    GpuBuffer sums;  // one total per block
+    uint32_t entry;  // dispatch of this level (one group per block)
+  };
+  const DispatchGate* gate_;
+  uint32_t count_;
+  std::vector<Level> levels_;
+  ShaderProgram blocks_, add_;
+};
+
+}  // namespace sphfx::sim

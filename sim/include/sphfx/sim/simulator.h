@@ -1,0 +1,96 @@
+#pragma once
+/// @file simulator.h
+/// @brief The GPU simulation of one scene, frame by frame, without any file I/O: particle buffers,
+/// neighbour grid, boundaries, pressure solver, time stepping, health checks. Simulation (simulation.h)
+/// adds caches, restart files, the manifest and progress.
+
+#include <array>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "sphfx/core/gpu_buffer.h"
+#include "sphfx/core/particle_cache.h"
+#include "sphfx/core/scene.h"
+#include "sphfx/sim/boundary_akinci2012.h"
+#include "sphfx/sim/dispatch_gate.h"
+#include "sphfx/sim/gpu_types.h"
+#include "sphfx/sim/neighbor_grid.h"
+#include "sphfx/sim/pass_timer.h"
+#include "sphfx/sim/symplectic_euler.h"
+#include "sphfx/sim/wcsph_solver.h"
+
+namespace sphfx::sim {
+
+/// The exact simulator state between frames: positions (w = id bits) and velocities in the buffer
+/// order. Restoring it continues bit-identically.
+struct SimulatorState {
+  int frame = 0;
+  std::vector<std::array<float, 4>> position;
+  std::vector<std::array<float, 4>> velocity;
+};
+
+struct FrameStats {
+  int frame = 0;
+  int substeps = 0;
+  double dtMin = 0, dtMean = 0, dtMax = 0;
+  double wallSeconds = 0;
+};
+
+/// Builds the pressure solver the scene names. @throws InputError for a solver this build lacks.
+std::unique_ptr<PressureSolver> makePressureSolver(const Scene& scene, const DispatchGate& gate,
+                                                   const ShaderDefines& defines);
+
+class Simulator {
+ public:
+  /// Seeds the scene's particles at its start frame. Needs a current GL context.
+  /// @throws InputError (no particles, unsupported solver), GLError.
+  explicit Simulator(const Scene& scene);
+
+  /// Simulates from the current frame to the next one.
+  /// @throws SimulationError naming the frame, the substep and the cause when a health check fails.
+  FrameStats advance();
+
+  int frame() const { return frame_; }
+  uint32_t particleCount() const { return count_; }
+  uint32_t boundaryCount() const { return boundary_->count(); }
+
+  /// The current frame as a cache (attributes as the scene asks). Downloads from the GPU.
+  ParticleFrame cacheFrame() const;
+  SimulatorState saveState() const;
+  /// @throws InputError if the particle count differs.
+  void restoreState(const SimulatorState& state);
+
+  /// GPU time per pass (seconds) when timing is on.
+  void enableTiming(bool on) { timer_.enable(on); }
+  const std::map<std::string, double>& passSeconds() const { return timer_.seconds(); }
+
+  /// Test access: the fluid grid after the latest substep, and the buffers it sorted into.
+  const NeighborGrid& grid() const { return *grid_; }
+  const GpuBuffer& sortedPositions() const { return pos_; }
+
+ private:
+  void substep();
+  void bindSolverBuffers() const;
+  SimState readState() const;
+  void startFrame(double t0, double t1);
+  void checkHealth(const SimState& s) const;
+
+  Scene scene_;
+  uint32_t count_ = 0;
+  int frame_ = 0;
+  int lastSubsteps_ = 8;
+  ShaderDefines defines_;
+  std::unique_ptr<DispatchGate> gate_;
+  GpuBuffer params_, state_, posIn_, velIn_, pos_, vel_, density_, accel_;
+  std::unique_ptr<NeighborGrid> grid_;
+  std::unique_ptr<BoundaryAkinci2012> boundary_;
+  std::unique_ptr<PressureSolver> solver_;
+  std::unique_ptr<SymplecticEuler> stepper_;
+  ShaderProgram health_;
+  mutable PassTimer timer_;
+};
+
+}  // namespace sphfx::sim

@@ -1,0 +1,42 @@
+#pragma once
+/// @file wcsph_solver.h
+/// @brief The pressure solver interface, and weakly compressible SPH (Becker & Teschner 2007 with the
+/// seed's linear EOS as an option): density (poly6) and EOS pressure, then symmetric pressure,
+/// viscosity and gravity accelerations. A DFSPH solver (issue 7) implements the same interface and
+/// reuses the grid, boundaries, integration, time stepping and caches.
+
+#include "sphfx/core/scene.h"
+#include "sphfx/core/shader_program.h"
+#include "sphfx/sim/dispatch_gate.h"
+#include "sphfx/sim/pass_timer.h"
+
+namespace sphfx::sim {
+
+/// Computes every particle's acceleration for the coming substep. When called, the simulator has bound
+/// the sorted particle arrays, the fluid and boundary grids, the state and the scene constants
+/// (shaders/sim_bindings.h); the solver writes SPHFX_SSBO_SIM_ACCEL and the reductions of SimState
+/// (max speed^2, max acceleration^2, max density).
+class PressureSolver {
+ public:
+  virtual ~PressureSolver() = default;
+  virtual const char* name() const = 0;
+  /// Queues the solver's passes (GPU work only).
+  virtual void computeAccelerations(PassTimer& timer) const = 0;
+  /// Only density and pressure (for the first frame's cache attributes and health check).
+  virtual void computeDensity(PassTimer& timer) const = 0;
+};
+
+class WCSPHSolver : public PressureSolver {
+ public:
+  /// @throws GLError if a program does not build.
+  WCSPHSolver(const Scene& scene, const DispatchGate& gate, const ShaderDefines& defines);
+  const char* name() const override { return "wcsph"; }
+  void computeAccelerations(PassTimer& timer) const override;
+  void computeDensity(PassTimer& timer) const override;
+
+ private:
+  const DispatchGate* gate_;
+  ShaderProgram density_, force_;
+};
+
+}  // namespace sphfx::sim

@@ -1,0 +1,175 @@
+#include "sphfx/sim/dfsph_solver.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+
+#include "bindings.h"
+#include "sph_dfsph_bindings.glsl"
+#include "sphfx/core/gl.h"
+#include "sphfx/core/gl_context.h"
+#include "sphfx/sim/gpu_types.h"
+
+namespace sphfx::sim {
+namespace {
+
+constexpr uint32_t kSourceEntry = 0, kReduceEntry = 1, kApplyEntry = 2;
+
+// Neighbours within h of a particle in the full rest lattice (self excluded).
+int latticeNeighbours(const Scene& scene) {
+  const double q = scene.solver.kernelSupport;
+  const int n = int(std::ceil(q));
+  int count = 0;
+  for (int x = -n; x <= n; ++x)
+    for (int y = -n; y <= n; ++y)
+      for (int z = -n; z <= n; ++z) count += (x * x + y * y + z * z) < q * q ? 1 : 0;
+  return count - 1;
+}
+
+}  // namespace
+
+DFSPHSolver::DFSPHSolver(const Scene& scene, const DispatchGate& gate, const ShaderDefines& defines,
+                         uint32_t particles)
+    : gate_(&gate),
+      particles_(particles),
+      groups_(std::max<uint32_t>(1, (particles + kSimWorkGroup - 1) / kSimWorkGroup)),
+      minIterations_(scene.solver.minIterations),
+      maxIterations_(scene.solver.maxIterations),
+      // A particle with fewer than 60 % of a full neighbourhood is at the free surface; its divergence
+      // estimate is skipped (SPlisHSPlasH uses 20 of 32 at the same support).
+      minNeighbours_(0.6 * latticeNeighbours(scene)),
+      particle_(size_t(std::max<uint32_t>(particles, 1)) * 16),
+      increment_(size_t(std::max<uint32_t>(particles, 1)) * 4),
+      warm_(size_t(std::max<uint32_t>(particles, 1)) * 4),
+      partial_(size_t(groups_) * 4),
+      control_(sizeof(DfsphControl)),
+      factor_(ShaderProgram::compute("sim_dfsph_factor.comp", defines)),
+      nonPressure_(ShaderProgram::compute("sim_dfsph_nonpressure.comp", defines)) {
+  density_ = makeSolve(defines, false, scene.solver.maxDensityError, 0);
+  divergence_ = makeSolve(defines, true, scene.solver.maxDivergenceError, 3 * DispatchGate::kParticleEntry);
+  DfsphControl c{};
+  const uint32_t live[9] = {groups_, 1, 1, 1, 1, 1, groups_, 1, 1};
+  std::copy(live, live + 9, c.args + 9);
+  control_.upload(&c, sizeof c);
+  warm_.fill(0);
+  particle_.fill(0);
+}
+
+DFSPHSolver::Solve DFSPHSolver::makeSolve(ShaderDefines d, bool divergence, double tolerance,
+                                          uint32_t gateWord) const {
+  if (divergence) d.set("DFSPH_DIVERGENCE");
+  d.set("DFSPH_SOLVE", divergence ? 1 : 0);
+  d.set("DFSPH_TOLERANCE", float(tolerance));
+  d.set("DFSPH_MIN_ITER", minIterations_);
+  d.set("DFSPH_MAX_ITER", maxIterations_);
+  d.set("DFSPH_GROUPS", groups_);
+  d.set("DFSPH_GATE_WORD", gateWord);
+  d.set("DFSPH_MIN_NEIGHBOURS", float(minNeighbours_));
+  return {
+      ShaderProgram::compute("sim_dfsph_begin.comp", d), ShaderProgram::compute("sim_dfsph_source.comp", d),
+      ShaderProgram::compute("sim_dfsph_reduce.comp", d), ShaderProgram::compute("sim_dfsph_apply.comp", d)};
+}
+
+void DFSPHSolver::bind() const {
+  particle_.bindStorage(SPHFX_SSBO_SIM_DFSPH_PARTICLE);
+  increment_.bindStorage(SPHFX_SSBO_SIM_DFSPH_INCREMENT);
+  warm_.bindStorage(SPHFX_SSBO_SIM_DFSPH_WARM);
+  partial_.bindStorage(SPHFX_SSBO_SIM_DFSPH_PARTIAL);
+  control_.bindStorage(SPHFX_SSBO_SIM_DFSPH_CONTROL);
+}
+
+void DFSPHSolver::dispatch(const ShaderProgram& p, uint32_t entry, const char* label) const {
+  p.use();
+  glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, control_.id());
+  glDispatchComputeIndirect(GLintptr(offsetof(DfsphControl, args) + entry * 12));
+  glCheck(label);
+  storageBarrier();
+}
+
+bool DFSPHSolver::open() const {
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+  uint32_t flag = 0;
+  control_.download(&flag, sizeof flag, offsetof(DfsphControl, open));
+  return flag != 0;
+}
+
+void DFSPHSolver::computeDensity(PassTimer& timer) const {
+  timer.begin("dfsph_factor");
+  bind();
+  factor_.use();
+  gate_->dispatch(DispatchGate::kParticleEntry, "sim_dfsph_factor.comp");
+  storageBarrier();
+}
+
+// One solve: open it (only if the substep is alive), warm start, then iterations of residual, GPU
+// reduction with the convergence decision, and correction. The CPU queues kCheckEvery iterations at a
+// time and stops once the GPU has closed the solve.
+void DFSPHSolver::run(const Solve& s, const char* label, PassTimer& timer) const {
+  timer.begin(label);
+  bind();
+  gate_->bind();
+  s.begin.use();
+  glDispatchCompute(1, 1, 1);
+  glCheck("sim_dfsph_begin.comp");
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+  const GLint warm = s.source.uniform("uWarm");
+  glProgramUniform1ui(s.source.id(), warm, 1u);
+  dispatch(s.source, kSourceEntry, "sim_dfsph_source.comp");
+  dispatch(s.apply, kApplyEntry, "sim_dfsph_apply.comp");
+  glProgramUniform1ui(s.source.id(), warm, 0u);
+  // maxIterations_ + 1 reductions: the last one records a solve that ran out of iterations.
+  for (int it = 0; it <= maxIterations_;) {
+    for (int k = 0; k < kCheckEvery && it <= maxIterations_; ++k, ++it) {
+      dispatch(s.source, kSourceEntry, "sim_dfsph_source.comp");
+      dispatch(s.reduce, kReduceEntry, "sim_dfsph_reduce.comp");
+      glMemoryBarrier(GL_COMMAND_BARRIER_BIT);
+      dispatch(s.apply, kApplyEntry, "sim_dfsph_apply.comp");
+    }
+    if (!open()) break;
+  }
+}
+
+void DFSPHSolver::computeAccelerations(PassTimer& timer) const {
+  computeDensity(timer);
+  run(divergence_, "dfsph_divergence", timer);
+  timer.begin("dfsph_nonpressure");
+  nonPressure_.use();
+  gate_->dispatch(DispatchGate::kParticleEntry, "sim_dfsph_nonpressure.comp");
+  storageBarrier();
+}
+
+void DFSPHSolver::correctVelocities(PassTimer& timer) const {
+  run(density_, "dfsph_density", timer);
+}
+
+DfsphFrameStats DFSPHSolver::readFrameStats() const {
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+  DfsphControl c{};
+  control_.download(&c, sizeof c);
+  DfsphFrameStats f;
+  f.solves = int(c.solves[0]);
+  auto mean = [](double sum, uint32_t n) { return n ? sum / n : 0.0; };
+  f.pressureIterations = mean(c.iterSum[0], c.solves[0]);
+  f.divergenceIterations = mean(c.iterSum[1], c.solves[1]);
+  f.maxPressureIterations = int(c.iterMax[0]);
+  f.maxDivergenceIterations = int(c.iterMax[1]);
+  f.densityError = mean(c.errorSum[0], c.solves[0]);
+  f.maxDensityError = c.errorMax[0];
+  f.divergenceError = mean(c.errorSum[1], c.solves[1]);
+  f.maxDivergenceError = c.errorMax[1];
+  return f;
+}
+
+std::vector<std::pair<std::string, double>> DFSPHSolver::frameStats() const {
+  const DfsphFrameStats f = readFrameStats();
+  return {{"pressure_iterations_mean", f.pressureIterations},
+          {"pressure_iterations_max", f.maxPressureIterations},
+          {"divergence_iterations_mean", f.divergenceIterations},
+          {"divergence_iterations_max", f.maxDivergenceIterations},
+          {"density_error_mean", f.densityError},
+          {"density_error_max", f.maxDensityError},
+          {"divergence_error_mean", f.divergenceError},
+          {"divergence_error_max", f.maxDivergenceError}};
+}
+
+}  // namespace sphfx::sim

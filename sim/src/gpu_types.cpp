@@ -1,0 +1,142 @@
+#include "sphfx/sim/gpu_types.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace sphfx::sim {
+
+KernelFactors kernelFactors(double h) {
+  const double pi = std::numbers::pi;
+  return {315.0 / (64.0 * pi * std::pow(h, 9)), -45.0 / (pi * std::pow(h, 6)), 45.0 / (pi * std::pow(h, 6))};
+}
+
+double calibratedParticleMass(const Scene& scene) {
+  const double s = scene.fluid.spacing, h = scene.kernelRadius();
+  const KernelFactors k = kernelFactors(h);
+  const int n = int(std::ceil(h / s));
+  double sum = 0;
+  for (int x = -n; x <= n; ++x)
+    for (int y = -n; y <= n; ++y)
+      for (int z = -n; z <= n; ++z) {
+        const double r2 = s * s * double(x * x + y * y + z * z);
+        if (r2 < h * h) sum += k.poly6 * std::pow(h * h - r2, 3);
+      }
+  return scene.fluid.restDensity / sum;
+}
+
+std::array<int, 3> gridDims(const Scene& scene) {
+  std::array<int, 3> dims{};
+  for (int a = 0; a < 3; ++a)
+    dims[a] = std::max(1, int(std::ceil((scene.domain.max[a] - scene.domain.min[a]) / scene.kernelRadius())));
+  return dims;
+}
+
+double clampMargin(const Scene& scene) {
+  return 0.05 * scene.fluid.spacing;
+}
+
+double speedOfSound(const Scene& scene) {
+  return scene.solver.eos == EquationOfState::Tait ? scene.solver.speedOfSound
+                                                   : std::sqrt(scene.solver.stiffness);
+}
+
+namespace {
+void set4(float* dst, const Vec3d& v, double w) {
+  for (int a = 0; a < 3; ++a) dst[a] = float(v[a]);
+  dst[3] = float(w);
+}
+}  // namespace
+
+SimParams makeSimParams(const Scene& scene, uint32_t particles, uint32_t boundarySamples,
+                        uint32_t dispatchEntries) {
+  SimParams p{};
+  const double h = scene.kernelRadius();
+  set4(p.domainMin, scene.domain.min, h);
+  set4(p.domainMax, scene.domain.max, scene.fluid.spacing);
+  set4(p.gravity, scene.gravity, calibratedParticleMass(scene));
+  const auto dims = gridDims(scene);
+  p.gridDims[0] = dims[0];
+  p.gridDims[1] = dims[1];
+  p.gridDims[2] = dims[2];
+  p.gridDims[3] = dims[0] * dims[1] * dims[2];
+  const KernelFactors k = kernelFactors(h);
+  p.kernel[0] = float(k.poly6);
+  p.kernel[1] = float(k.spikyGradient);
+  p.kernel[2] = float(k.viscosityLaplacian);
+  p.kernel[3] = float(h * h);
+  const double rho0 = scene.fluid.restDensity, c = speedOfSound(scene);
+  const bool tait = scene.solver.eos == EquationOfState::Tait;
+  p.fluid[0] = float(rho0);
+  p.fluid[1] = float(tait ? rho0 * c * c / scene.solver.gamma : scene.solver.stiffness);
+  p.fluid[2] = float(scene.solver.gamma);
+  p.fluid[3] = float(c);
+  p.viscosity[0] = float(scene.fluid.viscosity);
+  p.viscosity[1] = float(scene.fluid.artificialViscosity);
+  p.viscosity[2] = float(clampMargin(scene));
+  const bool fixed = scene.time.mode == TimeStepMode::Fixed;
+  p.step[0] = float(scene.time.cflFactor);
+  p.step[1] = float(scene.time.viscousFactor);
+  p.step[2] = float(scene.time.forceFactor);
+  p.step[3] = fixed ? float(scene.time.dt) : 0.0f;
+  p.limits[0] = float(scene.time.dtMin);
+  p.limits[1] = float(scene.time.dtMax);
+  p.limits[2] = float(scene.health.maxDensityRatio * rho0);
+  p.limits[3] = float(scene.health.maxSpeed);
+  p.counts[0] = particles;
+  p.counts[1] = boundarySamples;
+  p.counts[2] = uint32_t(scene.colliders.size());
+  p.counts[3] = dispatchEntries;
+  return p;
+}
+
+ShaderDefines simShaderDefines(const Scene& scene) {
+  ShaderDefines d;
+  d.set("SIM_WG", kSimWorkGroup);
+  d.set(scene.solver.eos == EquationOfState::Tait ? "EOS_TAIT" : "EOS_LINEAR");
+  if (scene.fluid.viscosityModel == ViscosityModel::Laplacian) d.set("VISCOSITY_LAPLACIAN");
+  if (scene.fluid.viscosityModel == ViscosityModel::Artificial) d.set("VISCOSITY_ARTIFICIAL");
+  if (!scene.colliders.empty()) d.set("HAS_COLLIDERS");
+  return d;
+}
+
+std::vector<GpuBlockLayout> simGpuLayouts() {
+  GpuBlockLayout params{"SimParams", true, SPHFX_UBO_SIM_PARAMS, sizeof(SimParams), "sim_density.comp", {}};
+  params.members = {SPHFX_GPU_MEMBER(SimParams, domainMin, "simDomainMin"),
+                    SPHFX_GPU_MEMBER(SimParams, domainMax, "simDomainMax"),
+                    SPHFX_GPU_MEMBER(SimParams, gravity, "simGravity"),
+                    SPHFX_GPU_MEMBER(SimParams, gridDims, "simGridDims"),
+                    SPHFX_GPU_MEMBER(SimParams, kernel, "simKernel"),
+                    SPHFX_GPU_MEMBER(SimParams, fluid, "simFluid"),
+                    SPHFX_GPU_MEMBER(SimParams, viscosity, "simViscosity"),
+                    SPHFX_GPU_MEMBER(SimParams, step, "simStep"),
+                    SPHFX_GPU_MEMBER(SimParams, limits, "simLimits"),
+                    SPHFX_GPU_MEMBER(SimParams, counts, "simCounts")};
+  GpuBlockLayout state{"SimStateBlock",     false, SPHFX_SSBO_SIM_STATE, sizeof(SimState),
+                       "sim_timestep.comp", {}};
+  state.members = {SPHFX_GPU_MEMBER(SimState, frameEnd, "stateFrameEnd"),
+                   SPHFX_GPU_MEMBER(SimState, time, "stateTime"),
+                   SPHFX_GPU_MEMBER(SimState, dtSum, "stateDtSum"),
+                   SPHFX_GPU_MEMBER(SimState, dt, "stateDt"),
+                   SPHFX_GPU_MEMBER(SimState, done, "stateDone"),
+                   SPHFX_GPU_MEMBER(SimState, substeps, "stateSubsteps"),
+                   SPHFX_GPU_MEMBER(SimState, failure, "stateFailure"),
+                   SPHFX_GPU_MEMBER(SimState, failSubstep, "stateFailSubstep"),
+                   SPHFX_GPU_MEMBER(SimState, maxSpeed2, "stateMaxSpeed2"),
+                   SPHFX_GPU_MEMBER(SimState, maxAccel2, "stateMaxAccel2"),
+                   SPHFX_GPU_MEMBER(SimState, maxDensity, "stateMaxDensity"),
+                   SPHFX_GPU_MEMBER(SimState, dtLow, "stateDtLow"),
+                   SPHFX_GPU_MEMBER(SimState, dtHigh, "stateDtHigh"),
+                   SPHFX_GPU_MEMBER(SimState, healthCount, "stateHealthCount"),
+                   SPHFX_GPU_MEMBER(SimState, healthFirst, "stateHealthFirst")};
+  // Unsized array of structs: the block size is reported as 0 plus one element stride; members are
+  // checked by offset.
+  GpuBlockLayout colliders{
+      "SimColliders", false, SPHFX_SSBO_SIM_COLLIDERS, 0, "sim_boundary_update.comp", {}};
+  colliders.members = {SPHFX_GPU_MEMBER(ColliderGpu, shapeA, "colliders[0].shapeA"),
+                       SPHFX_GPU_MEMBER(ColliderGpu, shapeB, "colliders[0].shapeB"),
+                       SPHFX_GPU_MEMBER(ColliderGpu, info, "colliders[0].info")};
+  return {params, state, colliders};
+}
+
+}  // namespace sphfx::sim

@@ -1,0 +1,66 @@
+#include "sphfx/sim/neighbor_grid.h"
+
+#include <algorithm>
+
+#include "bindings.h"
+#include "sphfx/core/gl.h"
+#include "sphfx/sim/gpu_types.h"
+
+namespace sphfx::sim {
+
+GridSpec GridSpec::forScene(const Scene& scene) {
+  GridSpec g;
+  for (int a = 0; a < 3; ++a) g.min[a] = float(scene.domain.min[a]);
+  g.cellSize = float(scene.kernelRadius());
+  g.dims = gridDims(scene);
+  return g;
+}
+
+NeighborGrid::NeighborGrid(DispatchGate& gate, const GridSpec& spec, uint32_t items)
+    : gate_(&gate),
+      spec_(spec),
+      items_(items),
+      cellStart_((size_t(spec.cells()) + 2) * 4),
+      cellRank_(std::max<size_t>(items, 1) * 8),
+      sorted_(std::max<size_t>(items, 1) * 4),
+      scan_(gate, spec.cells() + 2),
+      cells_(ShaderProgram::compute("sim_grid_cells.comp")),
+      scatter_(ShaderProgram::compute("sim_grid_scatter.comp")),
+      sort_(ShaderProgram::compute("sim_grid_sort.comp")),
+      itemEntry_(gate.add(items, 64)),
+      cellEntry_(gate.add(spec.cells(), 64)) {
+  // Constant per grid: set once (programs are owned by this grid).
+  glProgramUniform1ui(cells_.id(), cells_.uniform("uItemCount"), items);
+  glProgramUniform3f(cells_.id(), cells_.uniform("uGridMin"), spec.min[0], spec.min[1], spec.min[2]);
+  glProgramUniform1f(cells_.id(), cells_.uniform("uInvCellSize"), 1.0f / spec.cellSize);
+  glProgramUniform3i(cells_.id(), cells_.uniform("uDims"), spec.dims[0], spec.dims[1], spec.dims[2]);
+  glProgramUniform1ui(scatter_.id(), scatter_.uniform("uItemCount"), items);
+  glProgramUniform1ui(sort_.id(), sort_.uniform("uCellCount"), spec.cells());
+}
+
+void NeighborGrid::build(const GpuBuffer& srcPos, const GpuBuffer& srcVel, const GpuBuffer& dstPos,
+                         const GpuBuffer& dstVel) const {
+  cellStart_.fill(0);
+  if (items_ == 0) return;
+  srcPos.bindStorage(0);
+  srcVel.bindStorage(1);
+  dstPos.bindStorage(2);
+  dstVel.bindStorage(3);
+  cellStart_.bindStorage(SPHFX_SSBO_SIM_CELL_START);
+  cellRank_.bindStorage(SPHFX_SSBO_SIM_GRID_CELL_RANK);
+  sorted_.bindStorage(SPHFX_SSBO_SIM_GRID_SORTED);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+  cells_.use();
+  gate_->dispatch(itemEntry_, "sim_grid_cells.comp");
+  storageBarrier();
+  scan_.run(cellStart_);
+  cellStart_.bindStorage(SPHFX_SSBO_SIM_CELL_START);
+  scatter_.use();
+  gate_->dispatch(itemEntry_, "sim_grid_scatter.comp");
+  storageBarrier();
+  sort_.use();
+  gate_->dispatch(cellEntry_, "sim_grid_sort.comp");
+  storageBarrier();
+}
+
+}  // namespace sphfx::sim
