@@ -14,8 +14,8 @@ layout(binding = SPHFX_TEX_RENDER_BACK_DEPTH) uniform sampler2D uBackDepth;
 out vec4 fragColor;
 
 const float kWaterF0 = 0.02;                        // reflectance at normal incidence, n = 1.33
-const vec3 kAbsorption = vec3(2.2, 0.55, 0.28);     // 1/m: red goes first, blue last
-const vec3 kScatter = vec3(0.015, 0.09, 0.13);      // in-scattered colour of deep water
+const vec3 kAbsorption = vec3(7.0, 2.2, 1.1);  // 1/m, exaggerated for lab-sized tanks: red goes first
+const vec3 kScatter = vec3(0.01, 0.07, 0.12);     // in-scattered colour of deep water
 const float kRefractionShift = 0.04;                // screen-space offset per metre of thickness
 
 void main() {

@@ -169,13 +169,13 @@ CameraView sceneCamera(const Scene& scene, double time, double aspect) {
     }
   } else {
     // Three-quarter view from front-right and above, far enough that the domain's bounding sphere fits
-    // the narrower of the two fields of view (with a little margin cut: spheres over-estimate boxes).
+    // the narrower of the two fields of view.
     view.fovYDegrees = 40;
     const double halfY = view.fovYDegrees * M_PI / 360;
     const double half = std::min(halfY, std::atan(aspect * std::tan(halfY)));
     const Vec3d dir = normalize({0.75, 0.55, 1.3});
     view.lookAt = {center[0], d.min[1] + (d.max[1] - d.min[1]) * 0.4, center[2]};
-    view.position = add(view.lookAt, scale(dir, 0.9 * radius / std::sin(half)));
+    view.position = add(view.lookAt, scale(dir, radius / std::sin(half)));
   }
   if (std::abs(dot(normalize(sub(view.lookAt, view.position)), {0, 1, 0})) > 0.999999) view.up = {0, 0, -1};
   // The ground extends well beyond the domain; keep it within the far plane.

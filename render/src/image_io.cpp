@@ -22,9 +22,9 @@
 namespace sphfx::render {
 
 float linearToSrgb(float v) {
-  v = std::clamp(v, 0.0f, 1.0f);  // also maps NaN to 0 via the comparisons below
-  if (!(v > 0)) return 0;
-  return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1 / 2.4f) - 0.055f;
+  if (!(v > 0)) return 0;  // negatives and NaN
+  if (v >= 1) return 1;
+  return v <= 0.0031308f ? 12.92f * v : std::min(1.055f * std::pow(v, 1 / 2.4f) - 0.055f, 1.0f);
 }
 
 Image8 encodeSrgb8(const Image& image) {

@@ -1,0 +1,10 @@
+# Runs EXE with ARGS (a ;-list) and checks: exit code CODE, and stderr contains EXPECTED.
+execute_process(COMMAND "${EXE}" ${ARGS} RESULT_VARIABLE code OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT code EQUAL CODE)
+  message(FATAL_ERROR "expected exit code ${CODE}, got ${code}\nstderr: ${err}")
+endif()
+string(FIND "${err}" "${EXPECTED}" pos)
+if(pos EQUAL -1)
+  message(FATAL_ERROR "stderr lacks the expected text\n  expected: ${EXPECTED}\n  got: ${err}")
+endif()
+message(STATUS "ok: ${err}")
