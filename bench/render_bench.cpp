@@ -1,0 +1,134 @@
+// Seconds per 1920x1080 frame of the renderer on the current GL (llvmpipe without a GPU): particles
+// mode with 1M sphere impostors, surface mode with a water mesh of a similar triangle count. Generated
+// inputs (a jittered lattice in a dam-break tank, a soup of spheres) so the bench needs no shot.
+//   render_bench [--particles N] [--size WxH] [--samples S] [--frames F] [--gl BACKEND] [--out DIR]
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <random>
+#include <string>
+
+#include "sphfx/core/error.h"
+#include "sphfx/core/gl.h"
+#include "sphfx/core/gl_context.h"
+#include "sphfx/render/render_shot.h"
+#include "sphfx/render/renderer.h"
+
+using namespace sphfx;
+using namespace sphfx::render;
+
+namespace {
+
+struct Args {
+  int particles = 1000000, width = 1920, height = 1080, samples = 4, frames = 3;
+  std::string gl = "auto", out;
+};
+
+Args parse(int argc, char** argv) {
+  Args a;
+  for (int i = 1; i + 1 < argc; i += 2) {
+    const std::string k = argv[i], v = argv[i + 1];
+    if (k == "--particles")
+      a.particles = std::stoi(v);
+    else if (k == "--size")
+      std::tie(a.width, a.height) = parseImageSize(v);
+    else if (k == "--samples")
+      a.samples = std::stoi(v);
+    else if (k == "--frames")
+      a.frames = std::stoi(v);
+    else if (k == "--gl")
+      a.gl = v;
+    else if (k == "--out")
+      a.out = v;
+    else
+      throw InputError("unknown option " + k);
+  }
+  return a;
+}
+
+/// A dam-break-like column of N particles in a 1 x 0.6 x 0.4 m tank, spacing from N.
+std::vector<ParticleInstance> makeParticles(int n, float& spacing) {
+  const double volume = 0.4 * 0.5 * 0.4;
+  spacing = float(std::cbrt(volume / n));
+  const int nx = int(0.4 / spacing), ny = int(0.5 / spacing), nz = int(0.4 / spacing);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> jitter(-0.1f, 0.1f);
+  std::vector<ParticleInstance> ps;
+  ps.reserve(size_t(n));
+  for (int i = 0; i < nx && int(ps.size()) < n; ++i)
+    for (int j = 0; j < ny && int(ps.size()) < n; ++j)
+      for (int k = 0; k < nz && int(ps.size()) < n; ++k)
+        ps.push_back({{(i + 0.5f + jitter(rng)) * spacing, (j + 0.5f + jitter(rng)) * spacing,
+                       (k + 0.5f + jitter(rng)) * spacing},
+                      float(j) / float(ny) * 3.0f});
+  return ps;
+}
+
+/// A soup of overlapping spheres filling the same column: ~N/2 triangles, like a dense surfaced mesh.
+TriangleMesh makeSoup(int triangles) {
+  TriangleMesh soup;
+  const int per = 2 * 24 * 48, count = std::max(1, triangles / per);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(0, 1);
+  for (int s = 0; s < count; ++s) {
+    const TriangleMesh m = makeUvSphere({0.05 + 0.3 * u(rng), 0.05 + 0.4 * u(rng), 0.05 + 0.3 * u(rng)},
+                                        0.03 + 0.05 * u(rng), 24, 48);
+    const uint32_t base = uint32_t(soup.positions.size());
+    soup.positions.insert(soup.positions.end(), m.positions.begin(), m.positions.end());
+    soup.normals.insert(soup.normals.end(), m.normals.begin(), m.normals.end());
+    for (auto t : m.triangles) soup.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+  }
+  return soup;
+}
+
+template <class F>
+double secondsPerFrame(int frames, F render) {
+  render();  // warm-up: shader compile and first allocations are not per-frame costs
+  const auto start = std::chrono::steady_clock::now();
+  for (int i = 0; i < frames; ++i) render();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / frames;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    const Args a = parse(argc, argv);
+    auto ctx = GLContext::create({parseGLBackend(a.gl), false});
+    Renderer renderer(a.width, a.height, a.samples);
+    Stage stage;
+    stage.domain = {{0, 0, 0}, {1.0, 0.6, 0.4}};
+    Scene scene;
+    scene.domain = stage.domain;
+    scene.render.camera.reset();
+    const CameraView camera = sceneCamera(scene, 0, double(a.width) / a.height);
+    float spacing = 0;
+    const std::vector<ParticleInstance> ps = makeParticles(a.particles, spacing);
+    ParticleStyle style;
+    style.radius = spacing / 2;
+    style.heightMax = 0.6f;
+    const TriangleMesh soup = makeSoup(a.particles);
+    Image pImg, sImg;
+    const double tp =
+        secondsPerFrame(a.frames, [&] { pImg = renderer.renderParticles(ps, style, stage, camera); });
+    const double ts = secondsPerFrame(a.frames, [&] { sImg = renderer.renderSurface(soup, stage, camera); });
+    const double tw = secondsPerFrame(a.frames, [&] { (void)encodeSrgb8(pImg); });
+    fmt::print("renderer: {}\n", reinterpret_cast<const char*>(glGetString(GL_RENDERER)));
+    fmt::print("image: {}x{}, {} MSAA samples (requested {})\n", a.width, a.height, renderer.samples(),
+               a.samples);
+    fmt::print("particles: {} impostors, radius {:.4f} m: {:.3f} s/frame (render + read back)\n", ps.size(),
+               style.radius, tp);
+    fmt::print("surface: {} triangles: {:.3f} s/frame (render + read back)\n", soup.triangles.size(), ts);
+    fmt::print("sRGB encode: {:.3f} s/frame\n", tw);
+    if (!a.out.empty()) {
+      writePng(a.out + "/bench_particles.png", encodeSrgb8(pImg));
+      writePng(a.out + "/bench_surface.png", encodeSrgb8(sImg));
+    }
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "render_bench: {}\n", e.what());
+    return 1;
+  }
+  return 0;
+}
