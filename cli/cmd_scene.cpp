@@ -4,6 +4,7 @@
 
 #include "commands.h"
 #include "sphfx/core/error.h"
+#include "sphfx/core/log.h"
 #include "sphfx/core/scene.h"
 
 namespace sphfx::cli {
@@ -24,10 +25,9 @@ void addSceneCommand(CLI::App& app) {
     if (file->empty()) throw InputError("scene: expected a SCENE file (or --schema)");
     const Scene scene = loadScene(*file, *sets);
     std::printf("%s\n", sceneToJson(scene).dump(2).c_str());
-    std::fprintf(stderr,
-                 "sphfx: %s: valid; %zu particles, kernel radius %g m, particle mass %g kg, %d frames\n",
-                 file->c_str(), countInitialParticles(scene), scene.kernelRadius(), scene.particleMass(),
-                 scene.time.endFrame - scene.time.startFrame + 1);
+    logInfo(fmt::format("{}: valid; {} particles, kernel radius {:g} m, particle mass {:g} kg, {} frames", *file,
+                        countInitialParticles(scene), scene.kernelRadius(), scene.particleMass(),
+                        scene.time.endFrame - scene.time.startFrame + 1));
   });
 }
 

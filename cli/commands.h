@@ -16,6 +16,10 @@ std::shared_ptr<std::vector<std::string>> addSetOption(CLI::App* cmd);
 
 void addInfoCommand(CLI::App& app);
 void addSceneCommand(CLI::App& app);
+void addStudyCommand(CLI::App& app);
+void addStabilityCommand(CLI::App& app);
 void addSurfaceCommand(CLI::App& app);
+void addRenderCommand(CLI::App& app);
+void addSimulateCommand(CLI::App& app);
 
 }  // namespace sphfx::cli

@@ -21,7 +21,11 @@ int main(int argc, char** argv) {
 
   sphfx::cli::addInfoCommand(app);
   sphfx::cli::addSceneCommand(app);
+  sphfx::cli::addSimulateCommand(app);
+  sphfx::cli::addStudyCommand(app);
+  sphfx::cli::addStabilityCommand(app);
   sphfx::cli::addSurfaceCommand(app);
+  sphfx::cli::addRenderCommand(app);
 
   try {
     app.parse(argc, argv);
