@@ -29,5 +29,5 @@ void main() {
   x = clamp(x, lo, hi);
 #endif
   outPos[i] = vec4(x, pos[i].w);
-  outVel[i] = vec4(v, 0.0);
+  outVel[i] = vec4(v, vel[i].w);  // w: solver data carried between steps (DFSPH warm start)
 }

@@ -16,7 +16,13 @@ bool finite(float x) { return !isnan(x) && !isinf(x); }
 float chooseDt(float speed2, float accel2) {
   if (simStep.w > 0.0) return simStep.w;
   float h = simDomainMin.w;
+#if defined(SOLVER_DFSPH)
+  // Incompressible: the flow speed alone limits dt (no sound speed; the solver's accelerations are
+  // not reduced, so stateMaxAccel2 is 0 and the force bound drops out).
+  float dt = speed2 > 0.0 ? simStep.x * h / sqrt(speed2) : simLimits.y;
+#else
   float dt = simStep.x * h / (simFluid.w + sqrt(speed2));
+#endif
   if (accel2 > 0.0) dt = min(dt, simStep.z * sqrt(h / sqrt(accel2)));
 #if defined(VISCOSITY_LAPLACIAN)
   if (simViscosity.x > 0.0) dt = min(dt, simStep.y * h * h / simViscosity.x);

@@ -25,5 +25,6 @@ layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_CONTROL) buffer DfsphControl {
   uint dfArgs[18];
 };
 
-// Kernel gradient used by every DFSPH sum (the spiky gradient of the WCSPH force).
-vec3 dfsphGrad(vec3 d) { return sphSpikyGrad(d, length(d)); }
+// Kernel gradient used by every DFSPH sum (the spiky gradient of the WCSPH force). A macro: only the
+// passes that include sph_kernels.glsl use it.
+#define dfsphGrad(d) sphSpikyGrad(d, length(d))

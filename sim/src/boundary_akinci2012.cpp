@@ -1,5 +1,6 @@
 #include "sphfx/sim/boundary_akinci2012.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <unordered_map>
@@ -70,10 +71,36 @@ std::vector<double> akinciPsi(const std::vector<P3>& pts, double h, double rho0)
   return psi;
 }
 
+}  // namespace
+
+double wallPsiScale(const Scene& scene) {
+  // A fluid particle of the initial lattice half a spacing from a flat wall sampled one spacing apart:
+  // fluid part F (half-space lattice) plus wall part B (Akinci psi of the plane). Akinci's psi makes a
+  // single layer stand for the whole solid, which overshoots by ~40 % at h = 2 spacings with poly6;
+  // scale psi so that F + scale * B = rho0, i.e. the initial lattice starts at rest at walls too.
+  const double s = scene.fluid.spacing, h = scene.kernelRadius(), poly6 = kernelFactors(h).poly6;
+  const double m = calibratedParticleMass(scene), rho0 = scene.fluid.restDensity;
+  auto W = [&](double r2) { return r2 < h * h ? poly6 * std::pow(h * h - r2, 3) : 0.0; };
+  const int n = int(std::ceil(h / s)) + 1;
+  double fluid = 0, plane0 = 0, planeHalf = 0;
+  for (int i = -n; i <= n; ++i)
+    for (int k = -n; k <= n; ++k) {
+      const double d2 = s * s * double(i * i + k * k);
+      plane0 += W(d2);
+      planeHalf += W(d2 + 0.25 * s * s);
+      for (int j = 0; j <= n; ++j) fluid += m * W(d2 + s * s * double(j * j));
+    }
+  const double wall = rho0 / plane0 * planeHalf;
+  return std::clamp((rho0 - fluid) / wall, 0.1, 1.0);
+}
+
+namespace {
+
 void appendBody(BoundarySamples& out, const std::vector<P3>& pts, uint32_t body, const Scene& scene) {
   const std::vector<double> psi = akinciPsi(pts, scene.kernelRadius(), scene.fluid.restDensity);
+  const double scale = wallPsiScale(scene);
   for (size_t i = 0; i < pts.size(); ++i) {
-    out.rest.push_back({float(pts[i][0]), float(pts[i][1]), float(pts[i][2]), float(psi[i])});
+    out.rest.push_back({float(pts[i][0]), float(pts[i][1]), float(pts[i][2]), float(psi[i] * scale)});
     out.body.push_back(body);
   }
 }

@@ -14,6 +14,9 @@ namespace sphfx::sim {
 namespace {
 
 constexpr uint32_t kSourceEntry = 0, kReduceEntry = 1, kApplyEntry = 2;
+// std430 mirror of DfsphControl: scalars and uint/float arrays pack at 4 bytes.
+static_assert(offsetof(DfsphControl, lastError) == 48 && offsetof(DfsphControl, args) == 56 &&
+              sizeof(DfsphControl) == 128);
 
 // Neighbours within h of a particle in the full rest lattice (self excluded).
 int latticeNeighbours(const Scene& scene) {

@@ -97,6 +97,7 @@ ShaderDefines simShaderDefines(const Scene& scene) {
   if (scene.fluid.viscosityModel == ViscosityModel::Laplacian) d.set("VISCOSITY_LAPLACIAN");
   if (scene.fluid.viscosityModel == ViscosityModel::Artificial) d.set("VISCOSITY_ARTIFICIAL");
   if (!scene.colliders.empty()) d.set("HAS_COLLIDERS");
+  if (scene.solver.method == Solver::DFSPH) d.set("SOLVER_DFSPH");
   return d;
 }
 

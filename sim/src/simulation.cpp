@@ -18,8 +18,14 @@ namespace sphfx::sim {
 namespace {
 
 ManifestJson frameJson(const FrameStats& f) {
-  return {{"frame", f.frame},    {"substeps", f.substeps}, {"dt_min", f.dtMin},
-          {"dt_mean", f.dtMean}, {"dt_max", f.dtMax},      {"wall_seconds", f.wallSeconds}};
+  ManifestJson j = ManifestJson::object();
+  j["frame"] = f.frame;
+  j["substeps"] = f.substeps;
+  j["dt_min"] = f.dtMin;
+  j["dt_mean"] = f.dtMean;
+  j["dt_max"] = f.dtMax;
+  j["wall_seconds"] = f.wallSeconds;
+  return j;
 }
 
 // Keeps the per-frame entries of frames up to `last` (a resumed run replaces what follows).
@@ -37,16 +43,20 @@ void summarise(ManifestJson& section) {
   int written = 0;
   for (const auto& f : section["per_frame"]) {
     const int n = f["substeps"].get<int>();
-    if (n == 0) continue;
+    written += f.value("written", false) ? 1 : 0;
+    if (n == 0) continue;  // the initial frame
     lo = steps == 0 ? f["dt_min"].get<double>() : std::min(lo, f["dt_min"].get<double>());
     hi = std::max(hi, f["dt_max"].get<double>());
     sum += f["dt_mean"].get<double>() * n;
     steps += n;
-    written += f.value("written", false) ? 1 : 0;
   }
   section["frames_written"] = written;
   section["substeps"] = steps;
-  section["dt"] = {{"min", lo}, {"mean", steps ? sum / double(steps) : 0.0}, {"max", hi}};
+  ManifestJson dt = ManifestJson::object();
+  dt["min"] = lo;
+  dt["mean"] = steps ? sum / double(steps) : 0.0;
+  dt["max"] = hi;
+  section["dt"] = dt;
 }
 
 FrameRange writtenRange(const Scene& scene, const SimulationOptions& o) {
@@ -96,7 +106,7 @@ SimulationResult simulateShot(const Scene& scene, const SimulationOptions& o) {
     s["particle_count"] = sim.particleCount();
     s["boundary_samples"] = sim.boundaryCount();
     s["gl_renderer"] = result.renderer;
-    s["frames"] = {write.first, write.last};
+    s["frames"] = ManifestJson::array({write.first, write.last});
     trimFrames(s, resumed.value_or(scene.time.startFrame - 1));
   });
 

@@ -17,7 +17,8 @@ namespace sphfx::sim {
 std::unique_ptr<PressureSolver> makePressureSolver(const Scene& scene, const DispatchGate& gate,
                                                    const ShaderDefines& defines) {
   if (scene.solver.method == Solver::WCSPH) return std::make_unique<WCSPHSolver>(scene, gate, defines);
-  throw InputError("solver.method: \"dfsph\" is not available in this build (issue 7); use \"wcsph\"");
+  const auto particles = uint32_t(seedParticles(scene).position.size());
+  return std::make_unique<DFSPHSolver>(scene, gate, defines, particles);
 }
 
 namespace {
@@ -121,6 +122,8 @@ void Simulator::substep() {
   solver_->computeAccelerations(timer_);
   stepper_->chooseStep(timer_);
   bindSolverBuffers();  // the time step pass bound the dispatch arguments over a storage point
+  solver_->correctVelocities(timer_);
+  bindSolverBuffers();
   stepper_->integrate(timer_);
   timer_.end();
 }
@@ -163,6 +166,7 @@ FrameStats Simulator::advance() {
   f.dtMin = s.dtLow;
   f.dtMax = s.dtHigh;
   f.dtMean = s.substeps ? s.dtSum / s.substeps : 0;
+  f.solverStats = solver_->frameStats();
   f.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   return f;
 }

@@ -27,6 +27,10 @@ struct BoundarySamples {
   size_t size() const { return rest.size(); }
 };
 
+/// Factor on Akinci's psi that puts a fluid particle of the initial lattice, half a spacing from a flat
+/// wall, exactly at rest density (a single layer of samples otherwise overshoots; see docs/simulation.md).
+double wallPsiScale(const Scene& scene);
+
 /// Samples the six domain walls and every collider (at rest) about one fluid spacing apart, and
 /// computes psi per body. Deterministic.
 BoundarySamples sampleBoundaries(const Scene& scene);

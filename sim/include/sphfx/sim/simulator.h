@@ -15,6 +15,7 @@
 #include "sphfx/core/particle_cache.h"
 #include "sphfx/core/scene.h"
 #include "sphfx/sim/boundary_akinci2012.h"
+#include "sphfx/sim/dfsph_solver.h"
 #include "sphfx/sim/dispatch_gate.h"
 #include "sphfx/sim/gpu_types.h"
 #include "sphfx/sim/neighbor_grid.h"
@@ -37,6 +38,7 @@ struct FrameStats {
   int substeps = 0;
   double dtMin = 0, dtMean = 0, dtMax = 0;
   double wallSeconds = 0;
+  std::vector<std::pair<std::string, double>> solverStats;  ///< PressureSolver::frameStats()
 };
 
 /// Builds the pressure solver the scene names. @throws InputError for a solver this build lacks.

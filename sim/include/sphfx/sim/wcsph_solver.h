@@ -5,6 +5,10 @@
 /// viscosity and gravity accelerations. A DFSPH solver (issue 7) implements the same interface and
 /// reuses the grid, boundaries, integration, time stepping and caches.
 
+#include <string>
+#include <utility>
+#include <vector>
+
 #include "sphfx/core/scene.h"
 #include "sphfx/core/shader_program.h"
 #include "sphfx/sim/dispatch_gate.h"
@@ -24,6 +28,12 @@ class PressureSolver {
   virtual void computeAccelerations(PassTimer& timer) const = 0;
   /// Only density and pressure (for the first frame's cache attributes and health check).
   virtual void computeDensity(PassTimer& timer) const = 0;
+  /// Queued after the time step pass chose dt, before integration: predictor-corrector solvers (DFSPH's
+  /// constant-density solve) correct the accelerations for that dt here. Default: nothing.
+  virtual void correctVelocities(PassTimer& /*timer*/) const {}
+  /// Solver statistics of the frame just simulated, for the manifest's per-frame entry (may read back
+  /// from the GPU). Default: none.
+  virtual std::vector<std::pair<std::string, double>> frameStats() const { return {}; }
 };
 
 class WCSPHSolver : public PressureSolver {

@@ -1,0 +1,23 @@
+# A fixed time step far too large for the scene: the run must stop with exit code 3, name the frame,
+# the substep and the cause, and leave the frames finished before intact.
+file(REMOVE_RECURSE "${SHOT}")
+execute_process(COMMAND "${EXE}" simulate "${SCENE}" -o "${SHOT}" --gl egl-surfaceless
+                        --set fluid.spacing=0.025 --set time.dt_mode=fixed --set time.dt=0.01
+                RESULT_VARIABLE rc ERROR_VARIABLE err OUTPUT_VARIABLE out)
+if(NOT rc EQUAL 3)
+  message(FATAL_ERROR "expected exit code 3, got ${rc}: ${err}")
+endif()
+if(NOT err MATCHES "frame [0-9]+, substep [0-9]+.*: .*(NaN|speed|density|outside)")
+  message(FATAL_ERROR "the error does not name frame, substep and cause: ${err}")
+endif()
+string(REGEX MATCH "frame ([0-9]+), substep" m "${err}")
+math(EXPR last_good "${CMAKE_MATCH_1} - 1")
+foreach(f RANGE 1 ${last_good})
+  string(LENGTH "000${f}" len)
+  math(EXPR start "${len} - 4")
+  string(SUBSTRING "000${f}" ${start} 4 padded)
+  if(NOT EXISTS "${SHOT}/cache/particles.${padded}.vdb")
+    message(FATAL_ERROR "frame ${f} finished before the failure but its cache is missing")
+  endif()
+endforeach()
+message(STATUS "stopped as expected: ${err}")
