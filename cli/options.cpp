@@ -9,7 +9,8 @@ std::shared_ptr<GLContextOptions> addGLOptions(CLI::App* cmd) {
                   "OpenGL backend: auto (EGL device, then EGL surfaceless, then OSMesa), "
                   "egl-device, egl-surfaceless or osmesa")
       ->check(CLI::IsMember(glBackendNames()))
-      ->each([options](const std::string& v) { options->backend = parseGLBackend(v); });
+      // The lambda owns `name` too: CLI11 writes into it after this function has returned.
+      ->each([options, name](const std::string& v) { options->backend = parseGLBackend(v); });
   cmd->add_flag("--gl-debug", options->debug,
                 "Check GL errors after every dispatch and draw, and print KHR_debug messages (slow)");
   return options;
