@@ -3,7 +3,7 @@
 // k_i to the particle's total (the warm start of the next step).
 //   DFSPH_DIVERGENCE: corrects the velocities; the total goes to the per-id warm-start buffer.
 //   otherwise: adds to the acceleration (v* = v + dt a); the total, p / rho^2, goes to vel.w (carried
-//   by the state between steps) and to the cache's pressure.
+//   by the state between steps); the cache's pressure adds the divergence solve's share.
 #include "sph_params.glsl"
 #include "sph_kernels.glsl"
 #include "sph_dfsph.glsl"
@@ -33,13 +33,13 @@ vec3 velocityChange(uint i, float ki) {
       if (!sphRow(cell, dy, dz, first, last)) continue;
       for (uint j = cellStart[first], e = cellStart[last]; j < e; ++j) {
         vec3 d = xi - pos[j].xyz;
-        if (dot(d, d) < simKernel.w && j != i) fluid -= (ki + increment[j]) * dfsphGrad(d);
+        if (dot(d, d) < simKernel.w && j != i) fluid -= (ki + increment[j]) * dfsphForceGrad(d);
       }
       if (ki != 0.0)
         for (uint j = bStart[first], e = bStart[last]; j < e; ++j) {
           vec4 b = bpos[j];
           vec3 d = xi - b.xyz;
-          if (dot(d, d) < simKernel.w) wall -= b.w * dfsphGrad(d);
+          if (dot(d, d) < simKernel.w) wall -= b.w * dfsphForceGrad(d);
         }
     }
   return simGravity.w * fluid + ki * wall;
@@ -60,6 +60,8 @@ void main() {
   float total = dfsph[i].z + ki;
   dfsph[i].z = total;
   vel[i].w = total;
-  densityPressure[i].y = total;
+  // The cache's pressure (p / rho^2): both solves support the fluid, the divergence solve by a velocity
+  // impulse K per step, i.e. the pressure acceleration K / dt.
+  densityPressure[i].y = total + dfsph[i].w / stateDt;
 #endif
 }

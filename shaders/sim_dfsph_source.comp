@@ -1,11 +1,10 @@
 // DFSPH solver iteration, part 1 (Bender & Koschier 2017, algorithms 2 and 3): the residual of every
 // particle and its stiffness increment, and per work group the residual sum (a fixed-order tree, so the
 // average is deterministic).
-//   DFSPH_DIVERGENCE: residual max(D rho / Dt, 0) of the current velocities; increment residual * factor.
-//   otherwise: predicted density rho* = rho + dt D rho / Dt of v* = v + dt a, residual max(rho* - rho0, 0);
+//   DFSPH_DIVERGENCE: residual D rho / Dt of the current velocities; increment residual * factor.
+//   otherwise: predicted density rho* = rho + dt D rho / Dt of v* = v + dt a, residual rho* - rho0;
 //   increment residual * factor / dt^2.
-// uWarm: the first pass of a solve: the increment is the last step's stiffness total where the particle
-// is compressed (warm start), zero elsewhere.
+// uWarm: the first pass of a solve: the increment is the last substep's stiffness total (warm start).
 #include "sph_params.glsl"
 #include "sph_kernels.glsl"
 #include "sph_dfsph.glsl"
@@ -48,40 +47,50 @@ float densityChange(uint i) {
       if (!sphRow(cell, dy, dz, first, last)) continue;
       for (uint j = cellStart[first], e = cellStart[last]; j < e; ++j) {
         vec3 d = xi - pos[j].xyz;
-        if (dot(d, d) < simKernel.w && j != i) fluid += dot(vi - velocity(j), dfsphGrad(d));
+        if (dot(d, d) < simKernel.w && j != i) fluid += dot(vi - velocity(j), dfsphDensityGrad(d));
       }
       for (uint j = bStart[first], e = bStart[last]; j < e; ++j) {
         vec4 b = bpos[j];
         vec3 d = xi - b.xyz;
-        if (dot(d, d) < simKernel.w) wall += b.w * dot(vi - bvel[j].xyz, dfsphGrad(d));
+        if (dot(d, d) < simKernel.w) wall += b.w * dot(vi - bvel[j].xyz, dfsphDensityGrad(d));
       }
     }
   return simGravity.w * fluid + wall;
 }
 
+// Projected Jacobi (the stiffness total stays >= 0, as pressure in IISPH): the signed residual moves the
+// total up or down; the increment is the change of the clamped total. Returns the increment; `error` is
+// the residual where the constraint is active (compressed, or still carrying stiffness), else 0.
+float projectedIncrement(float residual, float scale, float total, out float error) {
+  float next = max(total + DFSPH_OMEGA * residual * scale, 0.0);
+  error = (residual > 0.0 || total > 0.0) ? abs(residual) : 0.0;
+  return next - total;
+}
+
 void main() {
   uint i = sphfxGlobalIndex();
-  float residual = 0.0;
+  float error = 0.0;
   if (i < simCounts.x) {
     vec4 f = dfsph[i];
     float inc;
 #if defined(DFSPH_DIVERGENCE)
     // Too few neighbours (free surface, splashes): the divergence estimate is meaningless there.
-    residual = f.y >= DFSPH_MIN_NEIGHBOURS ? max(densityChange(i), 0.0) : 0.0;
-    inc = residual * f.x;
-    // The first substep of a frame starts cold, so that a restart file (positions, velocities) resumes
-    // bit-identically.
-    if (uWarm != 0u) inc = (residual > 0.0 && stateSubsteps > 0u) ? warm[floatBitsToUint(pos[i].w)] : 0.0;
+    float residual = f.y >= DFSPH_MIN_NEIGHBOURS ? densityChange(i) : 0.0;
+    inc = projectedIncrement(residual, f.x, f.w, error);
+    // Warm start: the last substep's total. The first substep of a frame starts cold, so that a restart
+    // file (positions, velocities) resumes bit-identically.
+    if (uWarm != 0u) inc = stateSubsteps > 0u ? warm[floatBitsToUint(pos[i].w)] : 0.0;
 #else
     float dt = stateDt;
-    residual = max(densityPressure[i].x + dt * densityChange(i) - simFluid.x, 0.0);
-    inc = residual * f.x / (dt * dt);
-    if (uWarm != 0u) inc = residual > 0.0 ? vel[i].w : 0.0;
+    float residual = densityPressure[i].x + dt * densityChange(i) - simFluid.x;
+    inc = projectedIncrement(residual, f.x / (dt * dt), f.z, error);
+    // Warm start: the last substep's pressure total, carried in vel.w.
+    if (uWarm != 0u) inc = vel[i].w;
 #endif
     increment[i] = inc;
   }
   uint l = gl_LocalInvocationIndex;
-  groupSum[l] = residual / simFluid.x;
+  groupSum[l] = error / simFluid.x;
   for (uint s = SIM_WG / 2u; s > 0u; s >>= 1u) {
     barrier();
     if (l < s) groupSum[l] += groupSum[l + s];

@@ -25,6 +25,9 @@ layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_CONTROL) buffer DfsphControl {
   uint dfArgs[18];
 };
 
-// Kernel gradient used by every DFSPH sum (the spiky gradient of the WCSPH force). A macro: only the
-// passes that include sph_kernels.glsl use it.
-#define dfsphGrad(d) sphSpikyGrad(d, length(d))
+// Kernel gradients: the density change D rho/Dt and the pressure corrections both use the spiky gradient
+// of the WCSPH force (strong repulsion at short range). The poly6 gradient, consistent with the measured
+// density, was tried for D rho/Dt: its flat centre lets particles settle onto wall samples, and the tank
+// compressed more. The two names keep the factor's coupling of both sums explicit.
+#define dfsphDensityGrad(d) sphSpikyGrad(d, length(d))
+#define dfsphForceGrad(d) sphSpikyGrad(d, length(d))

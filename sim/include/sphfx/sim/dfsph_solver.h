@@ -9,9 +9,10 @@
 ///   correctVelocities (after the time step pass chose dt): the constant-density solver adds the
 ///     pressure acceleration so that the predicted density rho + dt D rho/Dt reaches rest density;
 ///   the shared symplectic Euler integration then moves the particles.
-/// Both solvers are Jacobi iterations on the GPU, warm-started from the previous substep's stiffness
-/// totals, with the average error reduced deterministically on the GPU; the GPU ends a solve by emptying
-/// its indirect dispatches, and the CPU checks that flag only every kCheckEvery iterations.
+/// Both solvers are relaxed, projected Jacobi iterations on the GPU (stiffness totals >= 0), warm-started
+/// from the previous substep's stiffness totals, with the average error reduced deterministically on the GPU;
+/// the GPU ends a solve by emptying its indirect dispatches, and the CPU checks that flag only every
+/// kCheckEvery iterations.
 
 #include <cstdint>
 #include <string>
@@ -71,6 +72,9 @@ class DFSPHSolver : public PressureSolver {
 
   /// The CPU looks at the GPU's convergence flag after this many queued iterations.
   static constexpr int kCheckEvery = 3;
+  /// Relaxation of the projected Jacobi updates: stiffness totals move up and down (clamped at 0), which
+  /// diverges at 1 on the dam break; 0.5 as IISPH's relaxed Jacobi.
+  static constexpr double kJacobiOmega = 0.5;
 
  private:
   struct Solve {
