@@ -10,6 +10,7 @@
 
 #include "sphfx/core/error.h"
 #include "sphfx/core/frame_files.h"
+#include "sphfx/core/vdb_io.h"
 
 namespace sphfx {
 namespace {
@@ -88,19 +89,7 @@ void writeParticleCache(const std::string& path, const ParticleFrame& f) {
   grid->insertMeta("particle_spacing", openvdb::DoubleMetadata(f.particleSpacing));
   grid->insertMeta("particle_count", openvdb::Int64Metadata(int64_t(f.size())));
 
-  writeFileAtomically(path, [&](const std::string& tmp) {
-    openvdb::io::File file(tmp);
-    file.setCompression(openvdb::io::Archive::hasBloscCompression()
-                            ? openvdb::io::COMPRESS_BLOSC | openvdb::io::COMPRESS_ACTIVE_MASK
-                            : openvdb::io::COMPRESS_ZIP | openvdb::io::COMPRESS_ACTIVE_MASK);
-    openvdb::GridPtrVec grids{grid};
-    try {
-      file.write(grids);
-    } catch (const openvdb::Exception& e) {
-      throw IoError(path + ": " + e.what());
-    }
-    file.close();
-  });
+  writeVdbFile(path, openvdb::GridCPtrVec{grid});
 }
 
 ParticleFrame readParticleCache(const std::string& path) {

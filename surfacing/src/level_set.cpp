@@ -148,10 +148,11 @@ openvdb::FloatGrid::Ptr buildLevelSet(const std::vector<std::array<float, 3>>& p
     if (params.smoothIterations > 0 || offset != 0) {
       openvdb::tools::LevelSetFilter<openvdb::FloatGrid> filter(*grid);
       // First-order upwinding for the renormalization after each step: the default fifth-order WENO
-      // scheme costs several times more and changes nothing visible after curvature smoothing.
+      // scheme costs several times more. Three renormalization sweeps (OpenVDB's default) are kept: with
+      // one, the sphere test's volume error no longer falls as the resolution rises.
       filter.setSpatialScheme(openvdb::math::FIRST_BIAS);
       filter.setTemporalScheme(openvdb::math::TVD_RK1);
-      filter.setNormCount(1);
+      filter.setNormCount(3);
       // Mean curvature flow: removes the particle bumps without moving flat regions.
       for (int i = 0; i < params.smoothIterations; ++i) filter.meanCurvature();
       if (offset != 0) filter.offset(float(offset));

@@ -102,3 +102,18 @@ TEST(ParticleCache, EmptyFrame) {
   EXPECT_EQ(readParticleCache((dir / "e.vdb").string()).size(), 0u);
   fs::remove_all(dir);
 }
+
+TEST(ParticleCache, SameFrameGivesIdenticalBytes) {
+  // OpenVDB stamps a random UUID into every archive; the cache replaces it by a content hash.
+  const fs::path dir = fs::temp_directory_path() / "sphfx_cache_test5";
+  const ParticleFrame f = randomFrame(2000, true);
+  writeParticleCache((dir / "a.vdb").string(), f);
+  writeParticleCache((dir / "b.vdb").string(), f);
+  EXPECT_EQ(readTextFile((dir / "a.vdb").string()), readTextFile((dir / "b.vdb").string()));
+  ParticleFrame g = f;
+  g.velocity[7][1] += 1.0f;
+  writeParticleCache((dir / "c.vdb").string(), g);
+  const std::string a = readTextFile((dir / "a.vdb").string()), c = readTextFile((dir / "c.vdb").string());
+  EXPECT_NE(a.substr(21, 36), c.substr(21, 36));  // a different frame gets a different UUID
+  fs::remove_all(dir);
+}
