@@ -20,6 +20,7 @@
 #define SPHFX_SSBO_SIM_BOUNDARY_REST 13
 #define SPHFX_SSBO_SIM_BOUNDARY_BODY 14
 #define SPHFX_SSBO_SIM_DISPATCH 15 /* indirect dispatch arguments, then their live values */
+#define SPHFX_SSBO_SIM_NEIGHBORS 16 /* WCSPH: neighbours found by sim_density, used by sim_force */
 
 /* Grid construction programs (sim_grid_*.comp, sim_scan_*.comp): source/destination use 0-3, the
  * cell counts/starts 7. */

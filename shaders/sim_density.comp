@@ -10,6 +10,13 @@ layout(std430, binding = SPHFX_SSBO_SIM_BOUNDARY_CELL_START) readonly buffer Sim
   uint bStart[];
 };
 layout(std430, binding = SPHFX_SSBO_SIM_DENSITY) writeonly buffer SimDensity { vec2 densityPressure[]; };
+#if defined(SIM_NEIGHBOR_MASKS)
+// Which candidates are within h, for the force pass (which otherwise tests ~7x more candidates than it
+// uses): per row of cells (9 rows), a bit mask over the row's first 32 sorted slots, fluid in words 0-8
+// (without i itself), boundary samples in words 9-17. Word k of particle i is at k * N + i, so adjacent
+// invocations write adjacent words, once per row. sim_force tests slots past the 32nd itself.
+layout(std430, binding = SPHFX_SSBO_SIM_NEIGHBORS) writeonly buffer SimNeighbors { uint neighbors[]; };
+#endif
 shared uint groupMaxDensity;
 
 void main() {
@@ -21,19 +28,37 @@ void main() {
     vec3 xi = pos[i].xyz;
     ivec3 cell = sphCell(xi);
     float fluid = 0.0, wall = 0.0;
+#if defined(SIM_NEIGHBOR_MASKS)
+    uint n = simCounts.x, row = 0u;
+#endif
     for (int dz = -1; dz <= 1; ++dz)
       for (int dy = -1; dy <= 1; ++dy) {
-        uint first, last;
-        if (!sphRow(cell, dy, dz, first, last)) continue;
-        for (uint j = cellStart[first], e = cellStart[last]; j < e; ++j) {
-          vec3 d = xi - pos[j].xyz;
-          fluid += sphPoly6(dot(d, d));
+        uint first, last, fluidMask = 0u, wallMask = 0u;
+        if (sphRow(cell, dy, dz, first, last)) {
+          uint f0 = cellStart[first], b0 = bStart[first];
+          for (uint j = f0, e = cellStart[last]; j < e; ++j) {
+            vec3 d = xi - pos[j].xyz;
+            float r2 = dot(d, d);
+            fluid += sphPoly6(r2);
+#if defined(SIM_NEIGHBOR_MASKS)
+            if (r2 < simKernel.w && j != i && j - f0 < 32u) fluidMask |= 1u << (j - f0);
+#endif
+          }
+          for (uint j = b0, e = bStart[last]; j < e; ++j) {
+            vec4 b = bpos[j];
+            vec3 d = xi - b.xyz;
+            float r2 = dot(d, d);
+            wall += b.w * sphPoly6(r2);
+#if defined(SIM_NEIGHBOR_MASKS)
+            if (r2 < simKernel.w && j - b0 < 32u) wallMask |= 1u << (j - b0);
+#endif
+          }
         }
-        for (uint j = bStart[first], e = bStart[last]; j < e; ++j) {
-          vec4 b = bpos[j];
-          vec3 d = xi - b.xyz;
-          wall += b.w * sphPoly6(dot(d, d));
-        }
+#if defined(SIM_NEIGHBOR_MASKS)
+        neighbors[row * n + i] = fluidMask;
+        neighbors[(9u + row) * n + i] = wallMask;
+        ++row;
+#endif
       }
     float rho = simGravity.w * fluid + wall;
     densityPressure[i] = vec2(rho, sphPressure(rho) / (rho * rho));

@@ -1,5 +1,7 @@
 // WCSPH pass 2: accelerations. Symmetric pressure force with the spiky gradient, Akinci 2012 boundary
-// pressure (mirrored: p_b = p_i, rho_b = rho_i) and friction, viscosity (VISCOSITY_LAPLACIAN: the seed's
+// samples with the pressure extrapolated hydrostatically from the particle (Adami et al. 2012:
+// p_b = p_i + rho_i g . (x_b - x_i), rho_b = rho_i; plain mirroring p_b = p_i under-supports a resting
+// column by rho g |x_b - x_i| and lets it sink into the wall) and friction, viscosity (VISCOSITY_LAPLACIAN: the seed's
 // Mueller form; VISCOSITY_ARTIFICIAL: Monaghan), gravity. Reduces max |v|^2 and |a|^2 for the CFL step.
 #include "sph_params.glsl"
 #include "sph_kernels.glsl"
@@ -14,6 +16,10 @@ layout(std430, binding = SPHFX_SSBO_SIM_BOUNDARY_VEL) readonly buffer SimBoundar
 layout(std430, binding = SPHFX_SSBO_SIM_BOUNDARY_CELL_START) readonly buffer SimBoundaryStart {
   uint bStart[];
 };
+#if defined(SIM_NEIGHBOR_MASKS)
+// Neighbour masks per row of cells from sim_density.comp.
+layout(std430, binding = SPHFX_SSBO_SIM_NEIGHBORS) readonly buffer SimNeighbors { uint neighbors[]; };
+#endif
 shared uint groupMaxSpeed2, groupMaxAccel2;
 
 #if defined(VISCOSITY_ARTIFICIAL)
@@ -26,12 +32,12 @@ float artificialViscosity(vec3 vij, vec3 xij, float r2, float rhoSum) {
 }
 #endif
 
-vec3 fluidTerms(uint i, vec3 xi, vec3 vi, float rhoi, float dpi, uint first, uint last) {
+// Fluid neighbour j (within h, not i) of particle i: acceleration / particle mass.
+vec3 fluidTerm(uint j, vec3 xi, vec3 vi, float rhoi, float dpi) {
   vec3 a = vec3(0.0);
-  for (uint j = first; j < last; ++j) {
+  {
     vec3 d = xi - pos[j].xyz;
     float r2 = dot(d, d);
-    if (r2 >= simKernel.w || j == i) continue;
     float r = sqrt(r2);
     vec3 grad = sphSpikyGrad(d, r);
     vec2 dpj = densityPressure[j];
@@ -43,25 +49,46 @@ vec3 fluidTerms(uint i, vec3 xi, vec3 vi, float rhoi, float dpi, uint first, uin
 #endif
     a -= coef * grad;
   }
+  return a;
+}
+
+vec3 fluidTerms(uint i, vec3 xi, vec3 vi, float rhoi, float dpi, uint first, uint last) {
+  vec3 a = vec3(0.0);
+  for (uint j = first; j < last; ++j) {
+    vec3 d = xi - pos[j].xyz;
+    if (dot(d, d) >= simKernel.w || j == i) continue;
+    a += fluidTerm(j, xi, vi, rhoi, dpi);
+  }
   return a * simGravity.w;
 }
 
-vec3 boundaryTerms(vec3 xi, vec3 vi, float rhoi, float dpi, uint first, uint last) {
+// Boundary sample j (within h) of particle i: acceleration.
+vec3 boundaryTerm(uint j, vec3 xi, vec3 vi, float rhoi, float dpi) {
   vec3 a = vec3(0.0);
-  for (uint j = first; j < last; ++j) {
+  {
     vec4 b = bpos[j];
     vec3 d = xi - b.xyz;
     float r2 = dot(d, d);
-    if (r2 >= simKernel.w) continue;
     float r = sqrt(r2);
     vec3 grad = sphSpikyGrad(d, r);
-    float coef = 2.0 * dpi;
+    // p_b / rho_b^2 with p_b = p_i + rho_i g . (x_b - x_i), never negative (no wall suction).
+    float coef = dpi + max(dpi - dot(simGravity.xyz, d) / rhoi, 0.0);
 #if defined(VISCOSITY_ARTIFICIAL)
     coef += artificialViscosity(vi - bvel[j].xyz, d, r2, 2.0 * rhoi);
 #elif defined(VISCOSITY_LAPLACIAN)
     a += (b.w * simViscosity.x / (rhoi * rhoi) * sphViscosityLaplacian(r)) * (bvel[j].xyz - vi);
 #endif
     a -= (b.w * coef) * grad;
+  }
+  return a;
+}
+
+vec3 boundaryTerms(vec3 xi, vec3 vi, float rhoi, float dpi, uint first, uint last) {
+  vec3 a = vec3(0.0);
+  for (uint j = first; j < last; ++j) {
+    vec3 d = xi - bpos[j].xyz;
+    if (dot(d, d) >= simKernel.w) continue;
+    a += boundaryTerm(j, xi, vi, rhoi, dpi);
   }
   return a;
 }
@@ -79,12 +106,34 @@ void main() {
     vec2 dpi = densityPressure[i];
     ivec3 cell = sphCell(xi);
     vec3 a = simGravity.xyz;
+#if defined(SIM_NEIGHBOR_MASKS)
+    uint n = simCounts.x, row = 0u;
+#endif
     for (int dz = -1; dz <= 1; ++dz)
       for (int dy = -1; dy <= 1; ++dy) {
         uint first, last;
-        if (!sphRow(cell, dy, dz, first, last)) continue;
+        if (!sphRow(cell, dy, dz, first, last)) {
+#if defined(SIM_NEIGHBOR_MASKS)
+          ++row;
+#endif
+          continue;
+        }
+#if defined(SIM_NEIGHBOR_MASKS)
+        // The masked slots, then whatever lies past the row's 32nd slot with the distance test.
+        uint f0 = cellStart[first], fe = cellStart[last], b0 = bStart[first], be = bStart[last];
+        vec3 af = vec3(0.0);
+        for (uint m = neighbors[row * n + i]; m != 0u; m &= m - 1u)
+          af += fluidTerm(f0 + uint(findLSB(m)), xi, vi, dpi.x, dpi.y);
+        a += af * simGravity.w;
+        for (uint m = neighbors[(9u + row) * n + i]; m != 0u; m &= m - 1u)
+          a += boundaryTerm(b0 + uint(findLSB(m)), xi, vi, dpi.x, dpi.y);
+        if (fe > f0 + 32u) a += fluidTerms(i, xi, vi, dpi.x, dpi.y, f0 + 32u, fe);
+        if (be > b0 + 32u) a += boundaryTerms(xi, vi, dpi.x, dpi.y, b0 + 32u, be);
+        ++row;
+#else
         a += fluidTerms(i, xi, vi, dpi.x, dpi.y, cellStart[first], cellStart[last]);
         a += boundaryTerms(xi, vi, dpi.x, dpi.y, bStart[first], bStart[last]);
+#endif
       }
     accel[i] = vec4(a, 0.0);
     atomicMax(groupMaxSpeed2, floatBitsToUint(dot(vi, vi)));

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
-#include <unordered_map>
 
 #include "bindings.h"
 #include "sphfx/core/gl.h"
@@ -13,95 +12,69 @@ namespace sphfx::sim {
 namespace {
 
 using P3 = std::array<double, 3>;
-
-// Lattice points on the surface of the box [lo, hi], about `spacing` apart (exact fit per axis).
-void sampleBoxSurface(const P3& lo, const P3& hi, double spacing, std::vector<P3>& out) {
-  std::array<int, 3> n{};
-  for (int a = 0; a < 3; ++a) n[a] = std::max(1, int(std::lround((hi[a] - lo[a]) / spacing)));
-  for (int i = 0; i <= n[0]; ++i)
-    for (int j = 0; j <= n[1]; ++j)
-      for (int k = 0; k <= n[2]; ++k) {
-        const bool surface = i == 0 || j == 0 || k == 0 || i == n[0] || j == n[1] || k == n[2];
-        if (!surface) continue;
-        const std::array<int, 3> idx{i, j, k};
-        P3 p{};
-        for (int a = 0; a < 3; ++a) p[a] = lo[a] + (hi[a] - lo[a]) * double(idx[a]) / double(n[a]);
-        out.push_back(p);
-      }
-}
-
-// Fibonacci lattice on a sphere: near-uniform spacing without poles.
-void sampleSphereSurface(const P3& c, double r, double spacing, std::vector<P3>& out) {
-  const int n = std::max(12, int(std::lround(4.0 * std::numbers::pi * r * r / (spacing * spacing))));
-  const double golden = std::numbers::pi * (3.0 - std::sqrt(5.0));
-  for (int i = 0; i < n; ++i) {
-    const double y = 1.0 - 2.0 * (double(i) + 0.5) / double(n), rad = std::sqrt(1.0 - y * y);
-    const double phi = golden * double(i);
-    out.push_back({c[0] + r * rad * std::cos(phi), c[1] + r * y, c[2] + r * rad * std::sin(phi)});
-  }
-}
-
-// psi_b = rho0 / sum_k W(x_b - x_k) over the samples of one body (Akinci 2012, eq. 4-5).
-std::vector<double> akinciPsi(const std::vector<P3>& pts, double h, double rho0) {
-  const double poly6 = kernelFactors(h).poly6;
-  auto key = [h](const P3& p, int dx, int dy, int dz) {
-    return (int64_t(std::floor(p[0] / h)) + dx) * 73856093LL ^
-           (int64_t(std::floor(p[1] / h)) + dy) * 19349663LL ^
-           (int64_t(std::floor(p[2] / h)) + dz) * 83492791LL;
-  };
-  std::unordered_multimap<int64_t, size_t> cells;
-  for (size_t i = 0; i < pts.size(); ++i) cells.emplace(key(pts[i], 0, 0, 0), i);
-  std::vector<double> psi(pts.size());
-  for (size_t i = 0; i < pts.size(); ++i) {
-    double sum = 0;
-    for (int dx = -1; dx <= 1; ++dx)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dz = -1; dz <= 1; ++dz) {
-          auto [b, e] = cells.equal_range(key(pts[i], dx, dy, dz));
-          for (auto it = b; it != e; ++it) {
-            const P3& q = pts[it->second];
-            const double r2 = (pts[i][0] - q[0]) * (pts[i][0] - q[0]) +
-                              (pts[i][1] - q[1]) * (pts[i][1] - q[1]) +
-                              (pts[i][2] - q[2]) * (pts[i][2] - q[2]);
-            if (r2 < h * h) sum += poly6 * std::pow(h * h - r2, 3);
-          }
-        }
-    psi[i] = rho0 / sum;
-  }
-  return psi;
-}
-
 }  // namespace
 
-double wallPsiScale(const Scene& scene) {
-  // A fluid particle of the initial lattice half a spacing from a flat wall sampled one spacing apart:
-  // fluid part F (half-space lattice) plus wall part B (Akinci psi of the plane). Akinci's psi makes a
-  // single layer stand for the whole solid, which overshoots by ~40 % at h = 2 spacings with poly6;
-  // scale psi so that F + scale * B = rho0, i.e. the initial lattice starts at rest at walls too.
-  const double s = scene.fluid.spacing, h = scene.kernelRadius(), poly6 = kernelFactors(h).poly6;
-  const double m = calibratedParticleMass(scene), rho0 = scene.fluid.restDensity;
-  auto W = [&](double r2) { return r2 < h * h ? poly6 * std::pow(h * h - r2, 3) : 0.0; };
-  const int n = int(std::ceil(h / s)) + 1;
-  double fluid = 0, plane0 = 0, planeHalf = 0;
-  for (int i = -n; i <= n; ++i)
-    for (int k = -n; k <= n; ++k) {
-      const double d2 = s * s * double(i * i + k * k);
-      plane0 += W(d2);
-      planeHalf += W(d2 + 0.25 * s * s);
-      for (int j = 0; j <= n; ++j) fluid += m * W(d2 + s * s * double(j * j));
-    }
-  const double wall = rho0 / plane0 * planeHalf;
-  return std::clamp((rho0 - fluid) / wall, 0.1, 1.0);
+// Boundary samples continue the fluid's cubic lattice into the solid, `layers` deep, each standing for
+// its lattice cell: psi_b = m * (cell volume / s^3), with m the calibrated particle mass. A fluid particle
+// of the initial lattice next to a flat wall (or in a corner) then sees exactly the neighbourhood it
+// would see inside the fluid, so it starts at rest density. A single surface layer with Akinci's
+// psi = rho0 / sum_k W_bk cannot do that at h = 2 s: it overshoots by ~40 % half a spacing from the
+// wall, and scaling psi down to fix the lattice makes the wall too soft once particles approach it
+// (measured: hydrostatic column sank 14 %, wall densities 800-960 kg/m^3; docs/simulation.md).
+int boundaryLayers(const Scene& scene) {
+  return std::max(1, int(std::ceil(scene.kernelRadius() / scene.fluid.spacing - 1e-9)));
 }
 
 namespace {
 
-void appendBody(BoundarySamples& out, const std::vector<P3>& pts, uint32_t body, const Scene& scene) {
-  const std::vector<double> psi = akinciPsi(pts, scene.kernelRadius(), scene.fluid.restDensity);
-  const double scale = wallPsiScale(scene);
-  for (size_t i = 0; i < pts.size(); ++i) {
-    out.rest.push_back({float(pts[i][0]), float(pts[i][1]), float(pts[i][2]), float(psi[i] * scale)});
-    out.body.push_back(body);
+// Cells of [lo, hi] per axis, about `spacing` wide (exact fit per axis).
+std::array<int, 3> latticeCells(const P3& lo, const P3& hi, double spacing) {
+  std::array<int, 3> n{};
+  for (int a = 0; a < 3; ++a) n[a] = std::max(1, int(std::lround((hi[a] - lo[a]) / spacing)));
+  return n;
+}
+
+// Cell centres of the lattice over [lo, hi] with index range [-outer, n + outer) per axis, kept where
+// `keep` (given the index) says so.
+template <class Keep>
+void appendLattice(const P3& lo, const P3& hi, const std::array<int, 3>& n, int outer, double psiPerVolume,
+                   uint32_t body, BoundarySamples& out, Keep keep) {
+  P3 step{};
+  for (int a = 0; a < 3; ++a) step[a] = (hi[a] - lo[a]) / double(n[a]);
+  const double psi = psiPerVolume * step[0] * step[1] * step[2];
+  for (int k = -outer; k < n[2] + outer; ++k)
+    for (int j = -outer; j < n[1] + outer; ++j)
+      for (int i = -outer; i < n[0] + outer; ++i) {
+        if (!keep(std::array<int, 3>{i, j, k})) continue;
+        out.rest.push_back({float(lo[0] + (i + 0.5) * step[0]), float(lo[1] + (j + 0.5) * step[1]),
+                            float(lo[2] + (k + 0.5) * step[2]), float(psi)});
+        out.body.push_back(body);
+      }
+}
+
+// Shells of a solid sphere at radii r - (l + 1/2) s, Fibonacci lattices (near-uniform, no poles) with
+// one sample per s^2 of shell area; each sample stands for its share of the shell's volume.
+void appendSphere(const P3& c, double r, double s, int layers, double psiPerVolume, uint32_t body,
+                  BoundarySamples& out) {
+  const double golden = std::numbers::pi * (3.0 - std::sqrt(5.0));
+  for (int l = 0; l < layers; ++l) {
+    const double rl = r - (l + 0.5) * s;
+    if (rl < 0.5 * s) {  // the core: one sample for the remaining ball
+      const double core = std::max(r - l * s, 0.0);
+      out.rest.push_back({float(c[0]), float(c[1]), float(c[2]),
+                          float(psiPerVolume * 4.0 / 3.0 * std::numbers::pi * core * core * core)});
+      out.body.push_back(body);
+      return;
+    }
+    const double area = 4.0 * std::numbers::pi * rl * rl;
+    const int n = std::max(1, int(std::lround(area / (s * s))));
+    for (int i = 0; i < n; ++i) {
+      const double y = 1.0 - 2.0 * (double(i) + 0.5) / double(n), rad = std::sqrt(1.0 - y * y);
+      const double phi = golden * double(i);
+      out.rest.push_back({float(c[0] + rl * rad * std::cos(phi)), float(c[1] + rl * y),
+                          float(c[2] + rl * rad * std::sin(phi)), float(psiPerVolume * area * s / n)});
+      out.body.push_back(body);
+    }
   }
 }
 
@@ -110,17 +83,31 @@ void appendBody(BoundarySamples& out, const std::vector<P3>& pts, uint32_t body,
 BoundarySamples sampleBoundaries(const Scene& scene) {
   BoundarySamples out;
   const double s = scene.fluid.spacing;
-  std::vector<P3> pts;
-  sampleBoxSurface(scene.domain.min, scene.domain.max, s, pts);
-  appendBody(out, pts, BoundarySamples::kWallBody, scene);
+  const int layers = boundaryLayers(scene);
+  // psi per unit volume: the lattice cell s^3 weighs the calibrated particle mass.
+  const double psiPerVolume = calibratedParticleMass(scene) / (s * s * s);
+  // Domain walls: the shell of `layers` lattice cells around the domain (edges and corners included).
+  const std::array<int, 3> n = latticeCells(scene.domain.min, scene.domain.max, s);
+  appendLattice(scene.domain.min, scene.domain.max, n, layers, psiPerVolume, BoundarySamples::kWallBody, out,
+                [&](const std::array<int, 3>& idx) {
+                  for (int a = 0; a < 3; ++a)
+                    if (idx[a] < 0 || idx[a] >= n[a]) return true;
+                  return false;
+                });
   for (size_t c = 0; c < scene.colliders.size(); ++c) {
     const Collider& col = scene.colliders[c];
-    pts.clear();
-    if (col.shape == Shape::Box)
-      sampleBoxSurface(col.min, col.max, s, pts);
-    else
-      sampleSphereSurface(col.center, col.radius, s, pts);
-    appendBody(out, pts, uint32_t(c), scene);
+    if (col.shape == Shape::Box) {
+      // The inner shell, `layers` cells deep, of the box's own lattice.
+      const std::array<int, 3> m = latticeCells(col.min, col.max, s);
+      appendLattice(col.min, col.max, m, 0, psiPerVolume, uint32_t(c), out,
+                    [&](const std::array<int, 3>& idx) {
+                      for (int a = 0; a < 3; ++a)
+                        if (idx[a] < layers || idx[a] >= m[a] - layers) return true;
+                      return false;
+                    });
+    } else {
+      appendSphere(col.center, col.radius, s, layers, psiPerVolume, uint32_t(c), out);
+    }
   }
   return out;
 }

@@ -1,14 +1,27 @@
 #include "sphfx/sim/wcsph_solver.h"
 
+#include <algorithm>
+
+#include "bindings.h"
+
 namespace sphfx::sim {
 
-WCSPHSolver::WCSPHSolver(const Scene&, const DispatchGate& gate, const ShaderDefines& defines)
+namespace {
+ShaderDefines withNeighborList(ShaderDefines d) {
+  d.set("SIM_NEIGHBOR_MASKS");
+  return d;
+}
+}  // namespace
+
+WCSPHSolver::WCSPHSolver(const Scene& scene, const DispatchGate& gate, const ShaderDefines& defines)
     : gate_(&gate),
-      density_(ShaderProgram::compute("sim_density.comp", defines)),
-      force_(ShaderProgram::compute("sim_force.comp", defines)) {}
+      density_(ShaderProgram::compute("sim_density.comp", withNeighborList(defines))),
+      force_(ShaderProgram::compute("sim_force.comp", withNeighborList(defines))),
+      neighbors_(std::max<size_t>(countInitialParticles(scene), 1) * 18 * 4) {}
 
 void WCSPHSolver::computeDensity(PassTimer& timer) const {
   timer.begin("density");
+  neighbors_.bindStorage(SPHFX_SSBO_SIM_NEIGHBORS);
   density_.use();
   gate_->dispatch(DispatchGate::kParticleEntry, "sim_density.comp");
   storageBarrier();

@@ -105,7 +105,15 @@ TEST(Physics, HydrostaticTankSettlesToRestDensityAndPressureProfile) {
       "vs rho g (H - y): mean %.3f, max %.3f of rho g H\n",
       H, n, meanRho, rho0, errSum / n, errMax);
   EXPECT_NEAR(meanRho / rho0, 1.0, 0.01);
-  EXPECT_LT(errSum / n, 0.15);
+  // Tolerances (docs/simulation.md): measured mean 0.025, max 0.039 of rho g H with the layered lattice
+  // boundary; the single-layer Akinci boundary gave a mean of 0.087.
+  EXPECT_LT(errSum / n, 0.05);
+  EXPECT_LT(errMax, 0.06);
+  // Mass conservation: the column keeps its initial fill height (0.30 m) within one spacing (it sank
+  // to 0.257 m when the walls were too soft).
+  const double fill = scene.fluid.blocks.front().max[1];
+  std::printf("surface %.4f m, initial fill %.4f m\n", H, fill);
+  EXPECT_NEAR(H, fill, s);
 }
 
 std::vector<std::pair<double, double>> readMartinMoyce() {
@@ -158,9 +166,11 @@ TEST(Physics, DamBreakFrontFollowsMartinMoyce) {
   ASSERT_GE(n, 8);
   std::printf("dam break front: mean |dZ| %.3f, max %.3f over %d points (T <= %.2f)\n", sum / n, worst, n,
               front.back().first);
-  // Tolerance (docs/simulation.md): the experiment's gate release delays the front; SPH fronts run ahead
-  // by up to ~0.3 a at this resolution.
-  EXPECT_LT(sum / n, 0.35);
+  // Tolerance (docs/simulation.md): measured mean 0.088, max 0.144 at this resolution (s = a/10); about
+  // twice that leaves room for float-order differences between GL drivers without hiding a regression (the
+  // single-layer boundary lagged by 0.35 on average).
+  EXPECT_LT(sum / n, 0.15);
+  EXPECT_LT(worst, 0.3);
 }
 
 }  // namespace

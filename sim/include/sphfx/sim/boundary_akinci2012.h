@@ -1,10 +1,12 @@
 #pragma once
 /// @file boundary_akinci2012.h
-/// @brief Boundary handling after Akinci et al. 2012, "Versatile rigid-fluid coupling for incompressible
-/// SPH": the domain walls and the colliders are sampled with one layer of boundary particles, each with
-/// a volume psi_b = rho0 / sum_k W(x_b - x_k) over the samples of its own body, so that a fluid particle
-/// at a wall sees a full neighbourhood (density, pressure force, friction). Moving colliders carry their
-/// velocity. Solvers read the cell-sorted samples through the same grid ranges as the fluid.
+/// @brief Boundary handling with Akinci et al. 2012's boundary samples, "Versatile rigid-fluid coupling
+/// for incompressible SPH": the domain walls and the colliders are sampled by boundary particles with a
+/// volume weight psi_b (kg), so that a fluid particle at a wall sees a full neighbourhood (density,
+/// pressure force, friction). Unlike Akinci's single surface layer with psi = rho0 / sum_k W_bk, the
+/// samples continue the fluid's lattice kernel-radius deep into the solid with psi_b = the mass of their
+/// lattice cell: exact rest density at flat walls and corners without any fudge factor. Moving colliders
+/// carry their velocity. Solvers read the cell-sorted samples through the same grid ranges as the fluid.
 
 #include <array>
 #include <cstdint>
@@ -27,12 +29,12 @@ struct BoundarySamples {
   size_t size() const { return rest.size(); }
 };
 
-/// Factor on Akinci's psi that puts a fluid particle of the initial lattice, half a spacing from a flat
-/// wall, exactly at rest density (a single layer of samples otherwise overshoots; see docs/simulation.md).
-double wallPsiScale(const Scene& scene);
+/// Layers of boundary samples: ceil(h / spacing), enough that a fluid particle on the wall plane sees
+/// solid samples over its whole kernel support.
+int boundaryLayers(const Scene& scene);
 
-/// Samples the six domain walls and every collider (at rest) about one fluid spacing apart, and
-/// computes psi per body. Deterministic.
+/// Samples the domain walls (a shell outside the domain) and every collider (a shell inside it, at
+/// rest) on a lattice about one fluid spacing apart, boundaryLayers() deep. Deterministic.
 BoundarySamples sampleBoundaries(const Scene& scene);
 
 class BoundaryAkinci2012 {

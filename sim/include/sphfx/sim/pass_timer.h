@@ -1,7 +1,8 @@
 #pragma once
 /// @file pass_timer.h
-/// @brief GPU time per named pass (GL_TIME_ELAPSED queries), for the benchmark. Off: free.
+/// @brief Time per named pass (glFinish around each pass, wall clock), for the benchmark. Off: free.
 
+#include <chrono>
 #include <cstdint>
 #include <map>
 #include <string>
@@ -21,7 +22,7 @@ class PassTimer {
   /// Starts timing `pass` (ends the previous one). Queries do not nest.
   void begin(const char* pass);
   void end();
-  /// Waits for the queries issued so far and adds them up. Call once per frame (it synchronises).
+  /// Ends the open pass. Call once per frame.
   void collect();
   /// Seconds of GPU time per pass since enable().
   const std::map<std::string, double>& seconds() const { return seconds_; }
@@ -29,8 +30,8 @@ class PassTimer {
  private:
   bool enabled_ = false;
   bool open_ = false;
-  std::vector<std::pair<uint32_t, std::string>> pending_;
-  std::vector<uint32_t> free_;
+  std::string current_;
+  std::chrono::steady_clock::time_point start_;
   std::map<std::string, double> seconds_;
 };
 

@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "sphfx/core/gpu_buffer.h"
 #include "sphfx/core/scene.h"
 #include "sphfx/core/shader_program.h"
 #include "sphfx/sim/dispatch_gate.h"
@@ -47,6 +48,7 @@ class WCSPHSolver : public PressureSolver {
  private:
   const DispatchGate* gate_;
   ShaderProgram density_, force_;
+  GpuBuffer neighbors_;  ///< per particle and row of cells: which candidates are within h (18 words)
 };
 
 }  // namespace sphfx::sim
