@@ -21,5 +21,6 @@ void addStabilityCommand(CLI::App& app);
 void addSurfaceCommand(CLI::App& app);
 void addRenderCommand(CLI::App& app);
 void addSimulateCommand(CLI::App& app);
+void addRunCommand(CLI::App& app);
 
 }  // namespace sphfx::cli

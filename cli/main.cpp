@@ -26,6 +26,7 @@ int main(int argc, char** argv) {
   sphfx::cli::addStabilityCommand(app);
   sphfx::cli::addSurfaceCommand(app);
   sphfx::cli::addRenderCommand(app);
+  sphfx::cli::addRunCommand(app);
 
   try {
     app.parse(argc, argv);
