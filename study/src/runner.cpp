@@ -68,7 +68,8 @@ void readSimulatorFigures(const std::string& shotDir, RunOutcome& out) {
     if (s.contains("wall_seconds") && s["wall_seconds"].is_number())
       out.wallSeconds = s["wall_seconds"].get<double>();
     if (s.contains("substeps") && s["substeps"].is_number()) out.substeps = s["substeps"].get<long>();
-    if (s.contains("dt_mean") && s["dt_mean"].is_number()) out.dtMean = s["dt_mean"].get<double>();
+    if (s.contains("dt") && s["dt"].contains("mean") && s["dt"]["mean"].is_number())
+      out.dtMean = s["dt"]["mean"].get<double>();
   } catch (const Error&) {
     // A run killed mid-write has no usable manifest; the process figures stand.
   }
