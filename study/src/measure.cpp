@@ -30,11 +30,18 @@ std::map<std::string, double> measureDamBreak(const Scene& scene, const std::vec
   static const MartinMoyce reference = MartinMoyce::load(referenceDirectory());
   const FluidBlock& column = scene.fluid.blocks.front();
   const double a = column.max[0] - column.min[0], wall = column.min[0], g = gravityMagnitude(scene);
+  // Martin & Moyce's tank was long enough that nothing came back; ours is not, so the residual height is
+  // compared only until the surge reaches the far wall (after that the reflected wave changes it).
+  const double farWall = scene.domain.max[0] - scene.fluid.spacing;
   std::vector<CurveSample> front, height;
+  bool reflected = false;
   for (const ParticleFrame& f : frames) {
-    front.push_back({f.time * std::sqrt(2 * g / a), surgeFront(f, wall) / a});
+    const double x = surgeFront(f, wall);
+    front.push_back({f.time * std::sqrt(2 * g / a), x / a});
+    reflected = reflected || wall + x >= farWall;
     const double band = std::max(1.5 * scene.fluid.spacing, 0.05 * a);
-    height.push_back({f.time * std::sqrt(g / a), columnHeightAtWall(f, wall, band) / (2 * a)});
+    if (!reflected)
+      height.push_back({f.time * std::sqrt(g / a), columnHeightAtWall(f, wall, band) / (2 * a)});
   }
   const CurveError fe = relativeError(front, reference.front, 3.0);
   const CurveError he = relativeError(height, reference.height, reference.height.xMax());

@@ -18,10 +18,14 @@ double surgeFront(const ParticleFrame& frame, double wallX) {
 }
 
 double columnHeightAtWall(const ParticleFrame& frame, double wallX, double band) {
-  double top = 0;
+  std::vector<float> y;
   for (const auto& p : frame.position)
-    if (p[0] - wallX <= band) top = std::max(top, double(p[1]) + 0.5 * frame.particleSpacing);
-  return top;
+    if (p[0] - wallX <= band) y.push_back(p[1]);
+  if (y.empty()) return 0;
+  // The k-th highest, k = 1 + n/50: droplets falling back past the wall do not set the water height.
+  const size_t k = std::min(y.size(), 1 + y.size() / 50);
+  std::nth_element(y.begin(), y.begin() + long(k - 1), y.end(), std::greater<float>());
+  return double(y[k - 1]) + 0.5 * frame.particleSpacing;
 }
 
 CurveError relativeError(const std::vector<CurveSample>& simulated, const Table& reference, double tMax) {

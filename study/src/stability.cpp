@@ -43,11 +43,14 @@ const Object<StabilitySuite>& suiteSchema() {
         .number("timeout", &StabilitySuite::timeoutSeconds, 600, "s", Range{0, 1e6, true, false},
                 "Wall-clock limit per run; over it the run is a failure (hang).")
         .textList("solvers", &StabilitySuite::solvers, "Solvers every case runs with (solver.method values).")
-        .anyJson("dt_sweep", &StabilitySuite::dtSweep, Json::array(), "Fixed time steps tried, increasing (s).")
+        .anyJson("dt_sweep", &StabilitySuite::dtSweep, Json::array(),
+                 "Fixed time steps tried, increasing (s).")
         .list("cases", &StabilitySuite::cases, caseSchema, 1, 256, "The cases.")
         .check([](const StabilitySuite& s, const Json&, const std::string& path) {
-          if (s.solvers.empty()) throw SchemaError(schema::childPath(path, "solvers"), "expected at least one solver");
-          if (!s.dtSweep.is_array()) throw SchemaError(schema::childPath(path, "dt_sweep"), "expected an array");
+          if (s.solvers.empty())
+            throw SchemaError(schema::childPath(path, "solvers"), "expected at least one solver");
+          if (!s.dtSweep.is_array())
+            throw SchemaError(schema::childPath(path, "dt_sweep"), "expected an array");
           for (const auto& v : s.dtSweep)
             if (!v.is_number() || !(v.get<double>() > 0))
               throw SchemaError(schema::childPath(path, "dt_sweep"), "expected positive numbers");
@@ -56,7 +59,8 @@ const Object<StabilitySuite>& suiteSchema() {
   return *schema;
 }
 
-std::vector<std::pair<double, double>> energyOverTime(const std::string& sceneFile, const std::string& shotDir) {
+std::vector<std::pair<double, double>> energyOverTime(const std::string& sceneFile,
+                                                      const std::string& shotDir) {
   const Scene scene = loadScene(sceneFile);
   const double m = scene.particleMass(), g = -scene.gravity[1];
   std::vector<std::pair<double, double>> e;
@@ -67,8 +71,8 @@ std::vector<std::pair<double, double>> energyOverTime(const std::string& sceneFi
   return e;
 }
 
-StabilityRun runCase(const StabilitySuite& suite, const StabilityCase& c, const std::string& solver, double dt,
-                     const std::string& outDir, const StudyOptions& options) {
+StabilityRun runCase(const StabilitySuite& suite, const StabilityCase& c, const std::string& solver,
+                     double dt, const std::string& outDir, const StudyOptions& options) {
   StabilityRun run;
   run.caseName = c.name;
   run.solver = solver;
@@ -96,7 +100,8 @@ StabilityRun runCase(const StabilitySuite& suite, const StabilityCase& c, const 
   run.outcome = runSimulation(options.sphfxExe, sceneFile, shotDir, suite.timeoutSeconds, options.gl);
   run.acceptable = run.outcome.status == RunStatus::Completed ||
                    (run.outcome.status == RunStatus::StoppedCleanly && (c.mayStop || dt > 0));
-  if (c.energy && run.outcome.status == RunStatus::Completed && dt == 0) run.energy = energyOverTime(sceneFile, shotDir);
+  if (c.energy && run.outcome.status == RunStatus::Completed && dt == 0)
+    run.energy = energyOverTime(sceneFile, shotDir);
   if (!options.keepShots) fs::remove_all(fs::path(shotDir) / "cache");
   return run;
 }
@@ -104,9 +109,10 @@ StabilityRun runCase(const StabilitySuite& suite, const StabilityCase& c, const 
 std::string energyText(const StabilityRun& r) {
   if (r.energy.size() < 2) return {};
   const double e0 = r.energy.front().second;
-  std::string t = fmt::format("\nEnergy (kinetic + potential) of `{}` with {}: relative change from the first frame\n\n"
-                              "| t (s) | E (J) | (E - E0)/|E0| |\n|---|---|---|\n",
-                              r.caseName, r.solver);
+  std::string t = fmt::format(
+      "\nEnergy (kinetic + potential) of `{}` with {}: relative change from the first frame\n\n"
+      "| t (s) | E (J) | (E - E0)/|E0| |\n|---|---|---|\n",
+      r.caseName, r.solver);
   const size_t step = std::max<size_t>(1, r.energy.size() / 12);
   for (size_t i = 0; i < r.energy.size(); i += step)
     t += fmt::format("| {:.3f} | {:.6g} | {:+.2e} |\n", r.energy[i].first, r.energy[i].second,
@@ -123,11 +129,11 @@ void writeStabilityOutputs(const StabilitySuite& suite, bool quick, const Stabil
                        r.outcome.substeps, r.outcome.message);
   writeTextAtomically((fs::path(outDir) / "stability.csv").string(), csv);
 
-  std::string md = fmt::format("# Stability suite: {}{}\n\n{} runs; failed: {}; stopped although the case must "
-                               "stay stable: {}.\n\n| case | solver | particles | status | wall s | note |\n"
-                               "|---|---|---|---|---|---|\n",
-                               suite.name, quick ? " (quick set)" : "", report.runs.size(), report.failed,
-                               report.unexpected);
+  std::string md = fmt::format(
+      "# Stability suite: {}{}\n\n{} runs; failed: {}; stopped although the case must "
+      "stay stable: {}.\n\n| case | solver | particles | status | wall s | note |\n"
+      "|---|---|---|---|---|---|\n",
+      suite.name, quick ? " (quick set)" : "", report.runs.size(), report.failed, report.unexpected);
   for (const auto& r : report.runs)
     if (r.fixedDt == 0)
       md += fmt::format("| {} | {} | {} | {} | {:.1f} | {} |\n", r.caseName, r.solver, r.particles,
@@ -142,8 +148,9 @@ void writeStabilityOutputs(const StabilitySuite& suite, bool quick, const Stabil
       entry.second = fmt::format("{:g} s: {}", r.fixedDt, toString(r.outcome.status));
   }
   if (!largest.empty()) {
-    md += "\nLargest stable fixed time step (the largest tried that completed; the first larger one and how "
-          "it ended):\n\n| case | solver | largest stable dt (s) | first unstable |\n|---|---|---|---|\n";
+    md +=
+        "\nLargest stable fixed time step (the largest tried that completed; the first larger one and how "
+        "it ended):\n\n| case | solver | largest stable dt (s) | first unstable |\n|---|---|---|---|\n";
     for (const auto& [key, value] : largest)
       md += fmt::format("| {} | {} | {} | {} |\n", key.first, key.second,
                         value.first > 0 ? fmt::format("{:g}", value.first) : "none tried completed",

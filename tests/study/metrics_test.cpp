@@ -31,6 +31,9 @@ TEST(Metrics, SurgeFrontAndColumnHeightOfABlock) {
   stray.position.push_back({5.0f, 0.0f, 0.0f});  // one droplet far ahead does not move the front
   stray.velocity.push_back({0, 0, 0});
   EXPECT_NEAR(surgeFront(stray, 0.0), 0.2, 1e-6);
+  stray.position.push_back({0.005f, 1.0f, 0.0f});  // nor does a droplet falling past the wall set the height
+  stray.velocity.push_back({0, 0, 0});
+  EXPECT_NEAR(columnHeightAtWall(stray, 0.0, 0.02), 0.4, 1e-6);
 }
 
 TEST(Metrics, RelativeErrorOfACurve) {

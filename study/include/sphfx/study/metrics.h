@@ -17,8 +17,8 @@ namespace sphfx::study {
 /// column, k = 1 + N/2000, so that one stray droplet does not set the front; minus wallX.
 double surgeFront(const ParticleFrame& frame, double wallX);
 
-/// Height of the water at the wall: the highest particle top (y + spacing/2) among particles within
-/// `band` of the wall.
+/// Height of the water at the wall: the top (y + spacing/2) of the k-th highest particle within `band`
+/// of the wall, k = 1 + n/50, so that splash droplets falling past the wall do not count.
 double columnHeightAtWall(const ParticleFrame& frame, double wallX, double band);
 
 /// A simulated curve sample (dimensionless time, value).

@@ -15,12 +15,12 @@ namespace sphfx::study {
 struct StabilityCase {
   std::string name;
   std::string description;
-  std::string scene;              ///< relative to the suite file
-  std::vector<std::string> set;   ///< overrides
-  bool quick = false;             ///< part of the quick set (CI)
-  bool sweep = false;             ///< find the largest stable fixed dt
-  bool energy = false;            ///< report kinetic + potential energy over time
-  bool mayStop = false;           ///< a clean stop is an acceptable outcome (e.g. dt far above CFL)
+  std::string scene;             ///< relative to the suite file
+  std::vector<std::string> set;  ///< overrides
+  bool quick = false;            ///< part of the quick set (CI)
+  bool sweep = false;            ///< find the largest stable fixed dt
+  bool energy = false;           ///< report kinetic + potential energy over time
+  bool mayStop = false;          ///< a clean stop is an acceptable outcome (e.g. dt far above CFL)
 };
 
 struct StabilitySuite {
@@ -40,14 +40,14 @@ struct StabilityRun {
   double fixedDt = 0;  ///< 0: the case's own time step control
   size_t particles = 0;
   RunOutcome outcome;
-  bool acceptable = false;  ///< completed, or stopped cleanly where the case allows it
+  bool acceptable = false;                        ///< completed, or stopped cleanly where the case allows it
   std::vector<std::pair<double, double>> energy;  ///< (time, kinetic + potential) when asked
 };
 
 struct StabilityReport {
   std::vector<StabilityRun> runs;
-  size_t failed = 0;       ///< runs classified failed: must be zero
-  size_t unexpected = 0;   ///< runs that stopped although the case must stay stable
+  size_t failed = 0;      ///< runs classified failed: must be zero
+  size_t unexpected = 0;  ///< runs that stopped although the case must stay stable
 };
 
 /// Runs the suite (the quick subset if `quick`) into `outDir` and writes stability.csv and stability.md.
