@@ -113,7 +113,7 @@ bool plotErrorAgainstTime(const StudySpec& spec, const std::vector<RunResult>& r
   const size_t panels = spec.cases.size();
   std::string script = fmt::format(
       "set terminal pngcairo size {},{} font 'sans,10'\nset output '{}'\nset multiplot layout 1,{}\n"
-      "set logscale xy\nset grid\nset key top right\nset xlabel 'wall seconds'\n",
+      "set termoption noenhanced\nset logscale xy\nset grid\nset key top right\nset xlabel 'wall seconds'\n",
       560 * panels, 460, (fs::path(outDir) / "error_vs_time.png").string(), panels);
   for (const StudyCase& c : spec.cases) {
     const auto runs = caseRuns(results, c.name);
@@ -137,8 +137,10 @@ bool plotErrorAgainstTime(const StudySpec& spec, const std::vector<RunResult>& r
     const fs::path frontFile = dataDir / (c.name + "_pareto.dat");
     writeTextAtomically(frontFile.string(), front);
     if (!front.empty())
-      plots += fmt::format("{}'{}' using 1:2 with lines dashtype 2 lc rgb 'black' title 'Pareto front'",
-                           plots.empty() ? "" : ", ", frontFile.string());
+      plots += fmt::format(
+          "{}'{}' using 1:2 with linespoints dashtype 2 pointtype 6 pointsize 2.5 lc rgb 'black' title "
+          "'Pareto front'",
+          plots.empty() ? "" : ", ", frontFile.string());
     script += (plots.empty() ? "NaN title 'no measured runs'" : plots) + "\n";
   }
   script += "unset multiplot\n";
