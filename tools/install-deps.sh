@@ -7,5 +7,5 @@ apt-get install -y -qq --no-install-recommends \
   ca-certificates cmake g++ make pkg-config python3 python3-glad \
   libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri libosmesa6 libosmesa6-dev \
   libopenvdb-dev libboost-dev libboost-iostreams-dev libtbb-dev libblosc-dev \
-  libcli11-dev nlohmann-json3-dev libfmt-dev libgtest-dev libpng-dev libopenexr-dev \
+  libcli11-dev nlohmann-json3-dev libfmt-dev libgtest-dev libpng-dev libopenexr-dev gnuplot-nox \
   >/dev/null
