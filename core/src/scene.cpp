@@ -477,27 +477,11 @@ void applyOverride(Json& raw, const std::string& assignment) {
 }
 
 Scene parseScene(const Json& raw, const std::string& source) {
-  Scene scene;
-  try {
-    sceneSchema().read(raw, "", scene);
-  } catch (const SchemaError& e) {
-    throw InputError(source + ": " + e.path() + ": " + e.message());
-  }
-  return scene;
+  return schema::readDocument(sceneSchema(), raw, source);
 }
 
 Scene loadScene(const std::string& path, const std::vector<std::string>& overrides) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot open the scene file");
-  Json raw;
-  try {
-    raw = Json::parse(in, nullptr, true, /*ignore_comments=*/true);
-  } catch (const Json::parse_error& e) {
-    // nlohmann's text reads "[json.exception.parse_error.101] parse error at line 3, column 5: ...".
-    std::string what = e.what();
-    const auto pos = what.find("parse error");
-    throw InputError(path + ": invalid JSON: " + (pos == std::string::npos ? what : what.substr(pos)));
-  }
+  Json raw = schema::readJsonFile(path, "scene");
   for (const auto& o : overrides) applyOverride(raw, o);
   return parseScene(raw, overrides.empty() ? path : path + " (with --set overrides)");
 }

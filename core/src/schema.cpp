@@ -3,6 +3,9 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <fstream>
+
+#include "sphfx/core/error.h"
 
 namespace sphfx::schema {
 
@@ -77,6 +80,23 @@ std::string childPath(const std::string& path, const std::string& key) {
 
 std::string childPath(const std::string& path, size_t index) {
   return path + "/" + std::to_string(index);
+}
+
+Json readJsonFile(const std::string& path, const std::string& what) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path + ": cannot open the " + what + " file");
+  try {
+    return Json::parse(in, nullptr, true, /*ignore_comments=*/true);
+  } catch (const Json::parse_error& e) {
+    // nlohmann's text reads "[json.exception.parse_error.101] parse error at line 3, column 5: ...".
+    const std::string text = e.what();
+    const auto pos = text.find("parse error");
+    throw InputError(path + ": invalid JSON: " + (pos == std::string::npos ? text : text.substr(pos)));
+  }
+}
+
+void throwInputError(const std::string& source, const SchemaError& e) {
+  throw InputError(source + ": " + e.path() + ": " + e.message());
 }
 
 }  // namespace sphfx::schema

@@ -83,9 +83,7 @@ StabilityRun runCase(const StabilitySuite& suite, const StabilityCase& c, const 
   fs::create_directories(runDir);
 
   const std::string base = (fs::path(suite.directory) / c.scene).string();
-  std::ifstream in(base);
-  if (!in) throw InputError(base + ": cannot open the scene of stability case \"" + c.name + "\"");
-  Json raw = Json::parse(in, nullptr, true, true);
+  Json raw = schema::readJsonFile(base, "scene");
   for (const auto& o : c.set) applyOverride(raw, o);
   applyOverride(raw, "solver.method=" + solver);
   if (dt > 0) {
@@ -169,20 +167,8 @@ void writeStabilityOutputs(const StabilitySuite& suite, bool quick, const Stabil
 }  // namespace
 
 StabilitySuite loadStabilitySuite(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path + ": cannot open the stability suite");
-  Json raw;
-  try {
-    raw = Json::parse(in, nullptr, true, true);
-  } catch (const Json::parse_error& e) {
-    throw InputError(path + ": invalid JSON: " + e.what());
-  }
-  StabilitySuite suite;
-  try {
-    suiteSchema().read(raw, "", suite);
-  } catch (const SchemaError& e) {
-    throw InputError(path + ": " + e.path() + ": " + e.message());
-  }
+  StabilitySuite suite =
+      schema::readDocument(suiteSchema(), schema::readJsonFile(path, "stability suite"), path);
   suite.directory = fs::path(path).parent_path().string();
   return suite;
 }

@@ -47,9 +47,7 @@ std::string writeRunScene(const StudySpec& spec, const StudyCase& c,
                           const std::vector<std::pair<std::string, Json>>& point, const std::string& runDir,
                           size_t& particles) {
   const std::string base = (fs::path(spec.directory) / c.scene).string();
-  std::ifstream in(base);
-  if (!in) throw InputError(base + ": cannot open the scene of case \"" + c.name + "\"");
-  Json raw = Json::parse(in, nullptr, true, true);
+  Json raw = schema::readJsonFile(base, "scene");
   for (const auto& o : c.set) applyOverride(raw, o);
   for (const auto& [path, value] : point) applyOverride(raw, path + "=" + valueText(value));
   const Scene scene = parseScene(raw, base + " (case " + c.name + ")");

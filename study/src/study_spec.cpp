@@ -68,20 +68,7 @@ const Object<StudySpec>& studySchema() {
 }  // namespace
 
 StudySpec loadStudy(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path + ": cannot open the study file");
-  Json raw;
-  try {
-    raw = Json::parse(in, nullptr, true, true);
-  } catch (const Json::parse_error& e) {
-    throw InputError(path + ": invalid JSON: " + e.what());
-  }
-  StudySpec spec;
-  try {
-    studySchema().read(raw, "", spec);
-  } catch (const SchemaError& e) {
-    throw InputError(path + ": " + e.path() + ": " + e.message());
-  }
+  StudySpec spec = schema::readDocument(studySchema(), schema::readJsonFile(path, "study"), path);
   spec.directory = std::filesystem::path(path).parent_path().string();
   return spec;
 }

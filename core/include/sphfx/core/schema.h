@@ -435,6 +435,25 @@ class Object {
   std::vector<Check> checks_;
 };
 
+/// Reads a JSON file (comments allowed). `what` names the document in errors ("scene", "study").
+/// @throws sphfx::InputError naming the file for an unreadable file or a syntax error (with line/column).
+Json readJsonFile(const std::string& path, const std::string& what);
+
+/// Thrown as sphfx::InputError "SOURCE: /json/path: message" (declared here to keep schema.h light).
+[[noreturn]] void throwInputError(const std::string& source, const SchemaError& e);
+
+/// Validates `raw` with `schema`. @throws sphfx::InputError "SOURCE: /json/path: what was expected".
+template <class S>
+S readDocument(const Object<S>& schema, const Json& raw, const std::string& source) {
+  S value;
+  try {
+    schema.read(raw, "", value);
+  } catch (const SchemaError& e) {
+    throwInputError(source, e);
+  }
+  return value;
+}
+
 /// Convenience: a shared, immutable schema built by `build`.
 template <class S, class Fn>
 std::shared_ptr<const Object<S>> makeSchema(Fn&& build) {
