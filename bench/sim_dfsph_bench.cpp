@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include <chrono>
+#include <ctime>
 #include <cmath>
 #include <cstdio>
 #include <exception>
@@ -74,6 +75,7 @@ void run(const Options& o, const std::string& solver, double spacing, const stud
   double wall = 0, dtSum = 0, pIt = 0, dIt = 0, errMean = 0, errMax = 0;
   long substeps = 0;
   int frames = 0;
+  const std::clock_t cpu0 = std::clock();  // process CPU time: llvmpipe's worker threads included
   while (sim.frame() < s.time.endFrame) {
     const auto t0 = std::chrono::steady_clock::now();
     const sim::FrameStats f = sim.advance();
@@ -90,8 +92,9 @@ void run(const Options& o, const std::string& solver, double spacing, const stud
   }
   const study::CurveError e = study::relativeError(front, ref.front, 3.0);
   const double n = double(substeps);
-  std::printf("%-6s %8.4f %8u %7.2f %7ld %9.3e %7.2f %7.2f %9.2e %9.2e %8.4f %8.4f\n", solver.c_str(),
-              spacing, sim.particleCount(), wall, substeps, dtSum / n, pIt / n, dIt / n, errMean / n, errMax,
+  const double cpu = double(std::clock() - cpu0) / CLOCKS_PER_SEC;
+  std::printf("%-6s %8.4f %8u %7.2f %7.2f %7ld %9.3e %7.2f %7.2f %9.2e %9.2e %8.4f %8.4f\n", solver.c_str(),
+              spacing, sim.particleCount(), wall, cpu, substeps, dtSum / n, pIt / n, dIt / n, errMean / n, errMax,
               e.rms, e.max);
   std::fflush(stdout);
 }
@@ -104,8 +107,8 @@ int main(int argc, char** argv) {
     auto ctx = GLContext::create();
     std::printf("# renderer: %s\n", reinterpret_cast<const char*>(glGetString(GL_RENDERER)));
     std::printf("# simulated seconds: %g\n", o.seconds);
-    std::printf("%-6s %8s %8s %7s %7s %9s %7s %7s %9s %9s %8s %8s\n", "solver", "spacing", "particles",
-                "wall_s", "steps", "dt_mean", "p_iter", "d_iter", "rho_err", "rho_max", "frontRMS",
+    std::printf("%-6s %8s %8s %7s %7s %7s %9s %7s %7s %9s %9s %8s %8s\n", "solver", "spacing", "particles",
+                "wall_s", "cpu_s", "steps", "dt_mean", "p_iter", "d_iter", "rho_err", "rho_max", "frontRMS",
                 "frontMax");
     const auto ref = study::MartinMoyce::load(study::referenceDirectory());
     for (double spacing : o.spacings)
