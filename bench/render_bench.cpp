@@ -1,9 +1,13 @@
 // Seconds per 1920x1080 frame of the renderer on the current GL (llvmpipe without a GPU): particles
 // mode with 1M sphere impostors, surface mode with a water mesh of a similar triangle count. Generated
 // inputs (a jittered lattice in a dam-break tank, a soup of spheres) so the bench needs no shot.
+// Each figure is wall seconds per frame and CPU seconds per frame (all threads of the process: llvmpipe
+// rasterises on every core), so a busy shared machine shows up as wall >> CPU / cores.
 //   render_bench [--particles N] [--size WxH] [--samples S] [--frames F] [--gl BACKEND] [--out DIR]
+//                [--only particles|surface]
 #include <fmt/format.h>
 
+#include <sys/resource.h>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -23,7 +27,7 @@ namespace {
 
 struct Args {
   int particles = 1000000, width = 1920, height = 1080, samples = 4, frames = 3;
-  std::string gl = "auto", out;
+  std::string gl = "auto", out, only;
 };
 
 Args parse(int argc, char** argv) {
@@ -42,6 +46,8 @@ Args parse(int argc, char** argv) {
       a.gl = v;
     else if (k == "--out")
       a.out = v;
+    else if (k == "--only" && (v == "particles" || v == "surface"))
+      a.only = v;
     else
       throw InputError("unknown option " + k);
   }
@@ -83,12 +89,25 @@ TriangleMesh makeSoup(int triangles) {
   return soup;
 }
 
+double cpuSeconds() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
+         1e-6 * double(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+
+struct Timing {
+  double wall = 0, cpu = 0;  ///< seconds per frame
+};
+
 template <class F>
-double secondsPerFrame(int frames, F render) {
+Timing secondsPerFrame(int frames, F render) {
   render();  // warm-up: shader compile and first allocations are not per-frame costs
   const auto start = std::chrono::steady_clock::now();
+  const double cpu0 = cpuSeconds();
   for (int i = 0; i < frames; ++i) render();
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / frames;
+  return {std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / frames,
+          (cpuSeconds() - cpu0) / frames};
 }
 
 }  // namespace
@@ -109,22 +128,33 @@ int main(int argc, char** argv) {
     ParticleStyle style;
     style.radius = spacing / 2;
     style.heightMax = 0.6f;
-    const TriangleMesh soup = makeSoup(a.particles);
     Image pImg, sImg;
-    const double tp =
-        secondsPerFrame(a.frames, [&] { pImg = renderer.renderParticles(ps, style, stage, camera); });
-    const double ts = secondsPerFrame(a.frames, [&] { sImg = renderer.renderSurface(soup, stage, camera); });
-    const double tw = secondsPerFrame(a.frames, [&] { (void)encodeSrgb8(pImg); });
     fmt::print("renderer: {}\n", reinterpret_cast<const char*>(glGetString(GL_RENDERER)));
     fmt::print("image: {}x{}, {} MSAA samples (requested {})\n", a.width, a.height, renderer.samples(),
                a.samples);
-    fmt::print("particles: {} impostors, radius {:.4f} m: {:.3f} s/frame (render + read back)\n", ps.size(),
-               style.radius, tp);
-    fmt::print("surface: {} triangles: {:.3f} s/frame (render + read back)\n", soup.triangles.size(), ts);
-    fmt::print("sRGB encode: {:.3f} s/frame\n", tw);
+    if (a.only != "surface") {
+      const Timing t =
+          secondsPerFrame(a.frames, [&] { pImg = renderer.renderParticles(ps, style, stage, camera); });
+      const Renderer::ParticleCounts counts = renderer.lastParticleCounts();
+      fmt::print("particles: {} impostors, radius {:.4f} m: {:.3f} s/frame wall, {:.3f} s/frame CPU\n",
+                 ps.size(), style.radius, t.wall, t.cpu);
+      fmt::print(
+          "  {} points ({} occluders, {} left after the occlusion cull), {} quads, {} outside the view"
+          " (max point size {})\n",
+          counts.points, counts.occluders, counts.visible, counts.quads, counts.culled,
+          renderer.maxPointSize());
+      const Timing te = secondsPerFrame(a.frames, [&] { (void)encodeSrgb8(pImg); });
+      fmt::print("sRGB encode: {:.3f} s/frame wall, {:.3f} s/frame CPU\n", te.wall, te.cpu);
+    }
+    if (a.only != "particles") {
+      const TriangleMesh soup = makeSoup(a.particles);
+      const Timing t = secondsPerFrame(a.frames, [&] { sImg = renderer.renderSurface(soup, stage, camera); });
+      fmt::print("surface: {} triangles: {:.3f} s/frame wall, {:.3f} s/frame CPU\n", soup.triangles.size(),
+                 t.wall, t.cpu);
+    }
     if (!a.out.empty()) {
-      writePng(a.out + "/bench_particles.png", encodeSrgb8(pImg));
-      writePng(a.out + "/bench_surface.png", encodeSrgb8(sImg));
+      if (!pImg.rgba.empty()) writePng(a.out + "/bench_particles.png", encodeSrgb8(pImg));
+      if (!sImg.rgba.empty()) writePng(a.out + "/bench_surface.png", encodeSrgb8(sImg));
     }
   } catch (const std::exception& e) {
     fmt::print(stderr, "render_bench: {}\n", e.what());

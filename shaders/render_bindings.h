@@ -11,4 +11,18 @@
 #define SPHFX_TEX_RENDER_OPAQUE_DEPTH 1
 #define SPHFX_TEX_RENDER_BACK_DEPTH 2
 
+/* Point-sprite impostors: the depth buffer read by compute passes, the per-pixel nearest depth (r32ui
+ * image), the max-depth tiles of the occlusion cull, the visible list and its indirect draw command. */
+#define SPHFX_TEX_RENDER_SCENE_DEPTH 0
+#define SPHFX_IMAGE_RENDER_NEAREST 0
+#define SPHFX_IMAGE_RENDER_DEPTH_MAX 1
+#define SPHFX_SSBO_RENDER_VISIBLE 3
+#define SPHFX_SSBO_RENDER_DRAW 4
+#define SPHFX_RENDER_CULL_TILE 4
+
+/* Passes of render_points.frag (SPHFX_IMPOSTOR_PASS). */
+#define SPHFX_IMPOSTOR_OCCLUDE 1
+#define SPHFX_IMPOSTOR_NEAREST 2
+#define SPHFX_IMPOSTOR_SHADE 3
+
 #endif

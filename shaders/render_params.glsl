@@ -14,6 +14,7 @@ layout(std140, binding = SPHFX_UBO_RENDER_PARAMS) uniform RenderParams {
   vec4 renderRamp;        // height min, height max, speed scale, mode (0 height, 1 speed)
   vec4 renderDomainMin;
   vec4 renderDomainMax;
+  vec4 renderProjection;  // projection matrix entries [0][0], [1][1], [2][2], [3][2] (column-major)
 };
 
 bool renderOrthographic() { return renderEye.w > 0.5; }

@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <random>
 
 #include "../core/gpu_layout_check.h"
 #include "render_test_util.h"
@@ -152,4 +153,70 @@ TEST_F(RenderGL, NearerParticleWinsWhateverTheDrawOrder) {
   file.readPixels(0, h - 1);
   EXPECT_NEAR(z[size_t(j) * w + i], test::rayDepth(i, j, nearC, r, d, fov, w, h), 1e-3);
   EXPECT_TRUE(std::isinf(z[0]));
+}
+
+// Point-sprite impostors (with their occluder pass and occlusion cull) against a brute-force CPU ray cast:
+// a jittered block of touching spheres, several rows deep, plus spheres straddling the image's left and
+// bottom edges (the quad fallback) and one behind the camera (dropped). Every pixel whose ray is not
+// within a hair of some sphere's silhouette must be covered exactly when the CPU ray hits a sphere, with
+// the CPU's nearest depth.
+TEST_F(RenderGL, PointImpostorsMatchCpuRayCast) {
+  const int w = 160, h = 120;
+  const double fov = 40, d = 3, r = 0.05;
+  std::vector<ParticleInstance> ps;
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> jitter(-0.2 * r, 0.2 * r);
+  for (int i = 0; i < 8; ++i)
+    for (int j = 0; j < 8; ++j)
+      for (int k = 0; k < 8; ++k)
+        ps.push_back({{float(-0.35 + 2 * r * i + jitter(rng)), float(-0.35 + 2 * r * j + jitter(rng)),
+                       float(-0.35 + 2 * r * k + jitter(rng))},
+                      0});
+  // Half a pixel outside the left edge and the bottom edge at depth d (f pixels per unit at unit depth).
+  const double f = (h / 2.0) / std::tan(fov * M_PI / 360);
+  const double xEdge = (w / 2.0 + 0.5) / f * d, yEdge = (h / 2.0 + 0.5) / f * d;
+  ps.push_back({{float(-xEdge), 0.f, 0.f}, 0});
+  ps.push_back({{0.f, float(-yEdge), 0.f}, 0});
+  ps.push_back({{0.f, 0.f, float(d + 1)}, 0});  // behind the camera
+  ParticleStyle style;
+  style.radius = float(r);
+  Renderer renderer(w, h, 4);
+  const Image img = renderer.renderParticles(ps, style, test::emptyStage(), test::axisCamera(d, fov));
+  const Renderer::ParticleCounts counts = renderer.lastParticleCounts();
+  EXPECT_EQ(counts.quads, 2u) << "the two edge spheres";
+  EXPECT_EQ(counts.culled, 1u) << "the sphere behind the camera";
+  EXPECT_EQ(counts.points, 512u);
+  EXPECT_LT(counts.visible, counts.points) << "the occlusion cull drops the hidden rows";
+
+  int checked = 0, coverageErrors = 0, depthErrors = 0;
+  for (int j = 0; j < h; ++j)
+    for (int i = 0; i < w; ++i) {
+      double nearest = INFINITY;
+      bool grazing = false;
+      for (const ParticleInstance& p : ps) {
+        const double c[3] = {p.position[0], p.position[1], p.position[2]};
+        // Grazing: the ray passes within 0.2 % of r of the silhouette; rounding may go either way.
+        const bool inner = !std::isnan(test::rayDepth(i, j, c, r * 0.998, d, fov, w, h));
+        const bool outer = !std::isnan(test::rayDepth(i, j, c, r * 1.002, d, fov, w, h));
+        grazing = grazing || inner != outer;
+        const double t = test::rayDepth(i, j, c, r, d, fov, w, h);
+        if (t > 0) nearest = std::min(nearest, t);
+      }
+      if (grazing) continue;
+      ++checked;
+      const bool covered = img.pixel(i, j)[3] > 0.5f;
+      if (covered != std::isfinite(nearest)) {
+        ++coverageErrors;
+        ADD_FAILURE() << "pixel " << i << "," << j << ": covered " << covered << ", CPU nearest " << nearest;
+      } else if (covered && std::abs(img.depth[size_t(j) * w + i] - nearest) > 1e-3) {
+        ++depthErrors;
+        ADD_FAILURE() << "pixel " << i << "," << j << ": depth " << img.depth[size_t(j) * w + i] << ", CPU "
+                      << nearest;
+      }
+      if (coverageErrors + depthErrors > 20) return;
+    }
+  EXPECT_GT(checked, w * h * 9 / 10);
+  // The edge spheres are drawn (quad path): the CPU sees them in column 0 and row h-1.
+  EXPECT_GT(img.pixel(0, h / 2)[3], 0.5f);
+  EXPECT_GT(img.pixel(w / 2, h - 1)[3], 0.5f);
 }

@@ -1,7 +1,7 @@
 #pragma once
 /// @file gpu_layouts.h
 /// @brief C++ mirrors of the render stage's GLSL blocks (shaders/render_params.glsl,
-/// shaders/render_particles.vert), described for the layout tests.
+/// shaders/render_particles.vert, shaders/render_points.vert), described for the layout tests.
 
 #include <vector>
 
@@ -23,6 +23,7 @@ struct RenderParams {
   float ramp[4];        ///< height min, height max, speed scale, mode (0 height, 1 speed)
   float domainMin[4];
   float domainMax[4];
+  float projection[4];  ///< projection matrix entries [0], [5], [10], [14] (column-major)
 };
 
 /// std430 element of the RenderParticles storage block: xyz position, w colour scalar (speed).

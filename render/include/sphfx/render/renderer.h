@@ -49,6 +49,25 @@ struct ParticleInstance {
   float speed;
 };
 
+/// How particles reach the GL. Point sprites (one vertex per particle) are the fast path; camera-facing
+/// quads (4 vertices) take the spheres a point cannot draw: those reaching in front of the near plane
+/// (or holding the camera), those whose silhouette box is centred off screen (GL clips a point by its
+/// centre, so a sphere straddling the image edge would vanish), and those larger than the GL's biggest
+/// point. Spheres wholly outside the view volume are dropped.
+/// Points come ordered for the occlusion passes (render_points.frag): first `occluders` of them, nearest
+/// first (per 4-pixel screen cell, those within 8 radii of the cell's nearest point: the likely front
+/// layers), then the rest.
+struct ImpostorSplit {
+  std::vector<ParticleInstance> points, quads;
+  size_t occluders = 0;
+  size_t culled = 0;
+};
+
+/// Splits `particles` (spheres of `radius`) for `camera` in a width x height image whose GL draws
+/// points up to `maxPointSize` pixels. @throws InputError for an invalid camera (as projectionMatrix()).
+ImpostorSplit splitImpostors(const std::vector<ParticleInstance>& particles, float radius,
+                             const CameraView& camera, int width, int height, double maxPointSize);
+
 /// Meshes builders used for the stage and for colliders.
 /// A UV sphere with `stacks` x `slices` quads (split into triangles), outward normals.
 TriangleMesh makeUvSphere(const Vec3d& center, double radius, int stacks, int slices);
@@ -69,8 +88,17 @@ class Renderer {
   int height() const;
   /// The MSAA sample count in use after clamping.
   int samples() const;
+  /// The largest point size the GL rasterises (upper end of GL_POINT_SIZE_RANGE), in pixels.
+  double maxPointSize() const;
+  /// How the last renderParticles() call drew its particles: as points (of which `occluders` in the
+  /// occluder pass and `visible` after the occlusion cull), as quads, or not at all (outside the view).
+  struct ParticleCounts {
+    size_t points = 0, quads = 0, culled = 0, occluders = 0, visible = 0;
+  };
+  ParticleCounts lastParticleCounts() const;
 
-  /// Particles as sphere impostors over the stage. @throws GLError (with --gl-debug checks) on GL errors.
+  /// Particles as sphere impostors over the stage (point sprites where possible, see ImpostorSplit).
+  /// @throws GLError (with --gl-debug checks) on GL errors.
   Image renderParticles(const std::vector<ParticleInstance>& particles, const ParticleStyle& style,
                         const Stage& stage, const CameraView& camera);
   /// A water surface mesh over the stage. An empty mesh draws the stage alone. @throws as renderParticles.
