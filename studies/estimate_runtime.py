@@ -1,5 +1,13 @@
-# Run-time estimate of studies/full.json from a cost model calibrated on the quick study's results.csv:
-# wall = particle-steps / throughput(N) + 0.5 s start-up; DFSPH steps weighted as 8 WCSPH steps.
+#!/usr/bin/env python3
+# Run-time estimate of a study (studies/full.json) from a cost model calibrated on a finished study's
+# results.csv (the quick study's): wall = particles x steps / throughput(particles) + 0.5 s start-up,
+# throughput interpolated (log of particles) between the measured runs; steps = simulated time / dt
+# with dt from the scene's CFL, viscous and dt_max limits (flow speed: 4 m/s dam break, 0.5 m/s
+# hydrostatic, 3 mm/s Poiseuille) or the fixed dt; a DFSPH step counted as 95 WCSPH steps (measured:
+# dam break at spacing 0.02, 600 particles: WCSPH 1090 steps in 4.05 s, DFSPH 144 steps in 51.0 s;
+# docs/accuracy.md).
+# Runs that stop early on a health check (fixed dt above the stable one) make the real study shorter.
+# Usage: python3 studies/estimate_runtime.py studies/full.json docs/quick-study/results.csv
 import json, math, itertools, sys, csv
 study = json.load(open(sys.argv[1]))
 scenes = {}
@@ -16,6 +24,7 @@ def throughput(n):
     for (n0, t0), (n1, t1) in zip(pts, pts[1:]):
         if n0 <= n <= n1:
             return t0 + (t1 - t0) * (math.log(n) - math.log(n0)) / (math.log(n1) - math.log(n0) or 1)
+DFSPH_STEP_COST = 95
 total = 0; per = {}
 for c in study['cases']:
     sc = load(c['scene'])
@@ -39,7 +48,7 @@ for c in study['cases']:
             dt = min(float(p.get('time.cfl_factor', 0.4)) * h / (c0 + vmax), 0.005)
             if sc['fluid'].get('viscosity_model') == 'laplacian':
                 dt = min(dt, float(p.get('time.viscous_factor', 0.125)) * h * h / sc['fluid']['viscosity'])
-        steps = T / dt * (8 if dfsph else 1)
+        steps = T / dt * (DFSPH_STEP_COST if dfsph else 1)
         wall = n * steps / throughput(n) + 0.5
         total += wall; per[c['name']] = per.get(c['name'], 0) + wall
 for k, v in per.items(): print(f'{k}: {v/60:.1f} min')
