@@ -4,17 +4,13 @@
 //   DFSPH_DIVERGENCE: corrects the velocities; the total goes to the per-id warm-start buffer.
 //   otherwise: adds to the acceleration (v* = v + dt a); the total, p / rho^2, goes to vel.w (carried
 //   by the state between steps); the cache's pressure adds the divergence solve's share.
+#define DFSPH_LIST_READ
 #include "sph_params.glsl"
 #include "sph_kernels.glsl"
 #include "sph_dfsph.glsl"
 layout(local_size_x = SIM_WG) in;
 layout(std430, binding = SPHFX_SSBO_SIM_POS) readonly buffer SimPos { vec4 pos[]; };
 layout(std430, binding = SPHFX_SSBO_SIM_VEL) buffer SimVel { vec4 vel[]; };
-layout(std430, binding = SPHFX_SSBO_SIM_CELL_START) readonly buffer SimCellStart { uint cellStart[]; };
-layout(std430, binding = SPHFX_SSBO_SIM_BOUNDARY_POS) readonly buffer SimBoundaryPos { vec4 bpos[]; };
-layout(std430, binding = SPHFX_SSBO_SIM_BOUNDARY_CELL_START) readonly buffer SimBoundaryStart {
-  uint bStart[];
-};
 layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_INCREMENT) readonly buffer DfsphIncrement { float increment[]; };
 #if defined(DFSPH_DIVERGENCE)
 layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_WARM) writeonly buffer DfsphWarm { float warm[]; };
@@ -23,26 +19,15 @@ layout(std430, binding = SPHFX_SSBO_SIM_ACCEL) buffer SimAccel { vec4 accel[]; }
 layout(std430, binding = SPHFX_SSBO_SIM_DENSITY) buffer SimDensity { vec2 densityPressure[]; };
 #endif
 
+// -sum_j (k_i + k_j) m grad W_ij - k_i sum_b psi_b grad W_ib, from the list.
 vec3 velocityChange(uint i, float ki) {
-  vec3 xi = pos[i].xyz;
-  ivec3 cell = sphCell(xi);
-  vec3 fluid = vec3(0.0), wall = vec3(0.0);
-  for (int dz = -1; dz <= 1; ++dz)
-    for (int dy = -1; dy <= 1; ++dy) {
-      uint first, last;
-      if (!sphRow(cell, dy, dz, first, last)) continue;
-      for (uint j = cellStart[first], e = cellStart[last]; j < e; ++j) {
-        vec3 d = xi - pos[j].xyz;
-        if (dot(d, d) < simKernel.w && j != i) fluid -= (ki + increment[j]) * dfsphForceGrad(d);
-      }
-      if (ki != 0.0)
-        for (uint j = bStart[first], e = bStart[last]; j < e; ++j) {
-          vec4 b = bpos[j];
-          vec3 d = xi - b.xyz;
-          if (dot(d, d) < simKernel.w) wall -= b.w * dfsphForceGrad(d);
-        }
-    }
-  return simGravity.w * fluid + ki * wall;
+  uint n = simCounts.x, count = dfCount[i];
+  vec3 dv = -ki * dfBoundary[i].xyz;
+  for (uint k = 0u; k < count; ++k) {
+    vec4 e = dfNbr[k * n + i];
+    dv -= (ki + increment[floatBitsToUint(e.w)]) * e.xyz;
+  }
+  return dv;
 }
 
 void main() {

@@ -1,9 +1,10 @@
 // DFSPH step start: density (poly6, fluid and Akinci 2012 boundary samples psi W), the factor
-// alpha_i / rho_i = 1 / ((sum_j m gW_ij + sum_b psi_b gW_ib) . (sum_j m gS_ij + sum_b psi_b gS_ib)
-//                        + sum_j m^2 gW_ij . gS_ij)
-// (Bender & Koschier 2017, eq. 9, boundary in the first sums only; gW: gradient of the density change,
-// gS: gradient of the pressure correction, both spiky, see sph_dfsph.glsl) and the neighbour count. The cache's
-// pressure is the last step's density stiffness, carried in vel.w. Reduces the largest density (health).
+// alpha_i / rho_i = 1 / (|sum_j m gW_ij + sum_b psi_b gW_ib|^2 + sum_j |m gW_ij|^2)
+// (Bender & Koschier 2017, eq. 9, boundary in the first sum only; gW the spiky gradient, see
+// sph_dfsph.glsl), the neighbour count, and the neighbour list every solver iteration of this substep
+// reads. The cache's pressure is the last step's density stiffness, carried in vel.w. Reduces the
+// largest density (health).
+#define DFSPH_LIST_WRITE
 #include "sph_params.glsl"
 #include "sph_kernels.glsl"
 #include "sph_dfsph.glsl"
@@ -12,6 +13,7 @@ layout(std430, binding = SPHFX_SSBO_SIM_POS) readonly buffer SimPos { vec4 pos[]
 layout(std430, binding = SPHFX_SSBO_SIM_VEL) readonly buffer SimVel { vec4 vel[]; };
 layout(std430, binding = SPHFX_SSBO_SIM_CELL_START) readonly buffer SimCellStart { uint cellStart[]; };
 layout(std430, binding = SPHFX_SSBO_SIM_BOUNDARY_POS) readonly buffer SimBoundaryPos { vec4 bpos[]; };
+layout(std430, binding = SPHFX_SSBO_SIM_BOUNDARY_VEL) readonly buffer SimBoundaryVel { vec4 bvel[]; };
 layout(std430, binding = SPHFX_SSBO_SIM_BOUNDARY_CELL_START) readonly buffer SimBoundaryStart {
   uint bStart[];
 };
@@ -26,8 +28,10 @@ void main() {
   if (live) {
     vec3 xi = pos[i].xyz;
     ivec3 cell = sphCell(xi);
-    float m = simGravity.w, fluid = 0.0, wall = 0.0, squares = 0.0, neighbours = 0.0;
-    vec3 gradSum = vec3(0.0), forceSum = vec3(0.0);
+    uint n = simCounts.x, listed = 0u;
+    float m = simGravity.w, fluid = 0.0, wall = 0.0, squares = 0.0, boundaryNeighbours = 0.0;
+    float wallVelocity = 0.0;
+    vec3 gradSum = vec3(0.0), wallGrad = vec3(0.0);
     for (int dz = -1; dz <= 1; ++dz)
       for (int dy = -1; dy <= 1; ++dy) {
         uint first, last;
@@ -38,11 +42,11 @@ void main() {
           if (r2 >= simKernel.w) continue;
           fluid += sphPoly6(r2);
           if (j == i) continue;
-          vec3 g = m * dfsphDensityGrad(d), gs = m * dfsphForceGrad(d);
+          vec3 g = m * dfsphGrad(d);
           gradSum += g;
-          forceSum += gs;
-          squares += dot(g, gs);
-          neighbours += 1.0;
+          squares += dot(g, g);
+          if (listed < uint(DFSPH_MAX_NEIGHBORS)) dfNbr[listed * n + i] = vec4(g, uintBitsToFloat(j));
+          ++listed;
         }
         for (uint j = bStart[first], e = bStart[last]; j < e; ++j) {
           vec4 b = bpos[j];
@@ -50,14 +54,19 @@ void main() {
           float r2 = dot(d, d);
           if (r2 >= simKernel.w) continue;
           wall += b.w * sphPoly6(r2);
-          gradSum += b.w * dfsphDensityGrad(d);
-          forceSum += b.w * dfsphForceGrad(d);
-          neighbours += 1.0;
+          vec3 g = b.w * dfsphGrad(d);
+          wallGrad += g;
+          wallVelocity += dot(bvel[j].xyz, g);
+          boundaryNeighbours += 1.0;
         }
       }
+    if (listed > uint(DFSPH_MAX_NEIGHBORS)) atomicOr(stateFailure, SIM_FAIL_NEIGHBORS);
+    dfCount[i] = min(listed, uint(DFSPH_MAX_NEIGHBORS));
+    dfBoundary[i] = vec4(wallGrad, wallVelocity);
     float rho = m * fluid + wall;
-    float denom = dot(gradSum, forceSum) + squares;
-    dfsph[i] = vec4(denom > 1e-6 ? 1.0 / denom : 0.0, neighbours, 0.0, 0.0);
+    vec3 g = gradSum + wallGrad;
+    float denom = dot(g, g) + squares;
+    dfsph[i] = vec4(denom > 1e-6 ? 1.0 / denom : 0.0, float(listed) + boundaryNeighbours, 0.0, 0.0);
     densityPressure[i] = vec2(rho, vel[i].w);
     atomicMax(groupMaxDensity, floatBitsToUint(rho));
   }

@@ -1,14 +1,15 @@
 // DFSPH non-pressure accelerations: gravity and viscosity (the WCSPH force pass's models without its
 // pressure term), evaluated on the divergence-free velocities. Reduces max |v|^2 for the flow-speed CFL
 // step; the acceleration bound of WCSPH does not apply (stateMaxAccel2 stays 0).
+#define DFSPH_LIST_READ
 #include "sph_params.glsl"
 #include "sph_kernels.glsl"
+#include "sph_dfsph.glsl"
 layout(local_size_x = SIM_WG) in;
 layout(std430, binding = SPHFX_SSBO_SIM_POS) readonly buffer SimPos { vec4 pos[]; };
 layout(std430, binding = SPHFX_SSBO_SIM_VEL) readonly buffer SimVel { vec4 vel[]; };
 layout(std430, binding = SPHFX_SSBO_SIM_DENSITY) readonly buffer SimDensity { vec2 densityPressure[]; };
 layout(std430, binding = SPHFX_SSBO_SIM_ACCEL) writeonly buffer SimAccel { vec4 accel[]; };
-layout(std430, binding = SPHFX_SSBO_SIM_CELL_START) readonly buffer SimCellStart { uint cellStart[]; };
 layout(std430, binding = SPHFX_SSBO_SIM_BOUNDARY_POS) readonly buffer SimBoundaryPos { vec4 bpos[]; };
 layout(std430, binding = SPHFX_SSBO_SIM_BOUNDARY_VEL) readonly buffer SimBoundaryVel { vec4 bvel[]; };
 layout(std430, binding = SPHFX_SSBO_SIM_BOUNDARY_CELL_START) readonly buffer SimBoundaryStart {
@@ -26,25 +27,28 @@ float artificialViscosity(vec3 vij, vec3 xij, float r2, float rhoSum) {
 }
 #endif
 
+// Fluid neighbours from the substep's list (its entries hold m grad W), boundary samples from the grid
+// (only rows near walls and colliders hold any).
 vec3 viscosity(uint i, vec3 xi, vec3 vi, float rhoi) {
   vec3 fluid = vec3(0.0), wall = vec3(0.0);
 #if defined(VISCOSITY_ARTIFICIAL) || defined(VISCOSITY_LAPLACIAN)
+  uint n = simCounts.x, count = dfCount[i];
+  for (uint k = 0u; k < count; ++k) {
+    vec4 e = dfNbr[k * n + i];
+    uint j = floatBitsToUint(e.w);
+    vec3 d = xi - pos[j].xyz;
+#if defined(VISCOSITY_ARTIFICIAL)
+    fluid -= artificialViscosity(vi - vel[j].xyz, d, dot(d, d), rhoi + densityPressure[j].x) * e.xyz;
+#else
+    fluid += (simViscosity.x / densityPressure[j].x * simGravity.w * sphViscosityLaplacian(length(d))) *
+             (vel[j].xyz - vi);
+#endif
+  }
   ivec3 cell = sphCell(xi);
   for (int dz = -1; dz <= 1; ++dz)
     for (int dy = -1; dy <= 1; ++dy) {
       uint first, last;
       if (!sphRow(cell, dy, dz, first, last)) continue;
-      for (uint j = cellStart[first], e = cellStart[last]; j < e; ++j) {
-        vec3 d = xi - pos[j].xyz;
-        float r2 = dot(d, d);
-        if (r2 >= simKernel.w || j == i) continue;
-        float r = sqrt(r2);
-#if defined(VISCOSITY_ARTIFICIAL)
-        fluid -= artificialViscosity(vi - vel[j].xyz, d, r2, rhoi + densityPressure[j].x) * sphSpikyGrad(d, r);
-#else
-        fluid += (simViscosity.x / densityPressure[j].x * sphViscosityLaplacian(r)) * (vel[j].xyz - vi);
-#endif
-      }
       for (uint j = bStart[first], e = bStart[last]; j < e; ++j) {
         vec4 b = bpos[j];
         vec3 d = xi - b.xyz;
@@ -59,7 +63,7 @@ vec3 viscosity(uint i, vec3 xi, vec3 vi, float rhoi) {
       }
     }
 #endif
-  return simGravity.w * fluid + wall;
+  return fluid + wall;
 }
 
 void main() {

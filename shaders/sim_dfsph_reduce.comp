@@ -19,6 +19,12 @@ void main() {
   }
   if (l != 0u) return;
   float error = sums[0] / float(simCounts.x);
+#if defined(DFSPH_DIVERGENCE)
+  // The divergence error as the relative density change it causes over one time step (SPlisHSPlasH's
+  // criterion): mean |D rho/Dt| / rho0 * dt. dt is the last substep's (this substep's is chosen after the
+  // solve); a frame's first substep uses dt_max (the strictest choice), or the fixed dt.
+  error *= simStep.w > 0.0 ? simStep.w : (stateSubsteps > 0u ? stateDt : simLimits.y);
+#endif
   uint it = dfIteration;
   dfLastError = error;
   if ((it >= uint(DFSPH_MIN_ITER) && error <= DFSPH_TOLERANCE) || it >= uint(DFSPH_MAX_ITER)) {

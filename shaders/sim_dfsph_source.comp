@@ -5,6 +5,7 @@
 //   otherwise: predicted density rho* = rho + dt D rho / Dt of v* = v + dt a, residual rho* - rho0;
 //   increment residual * factor / dt^2.
 // uWarm: the first pass of a solve: the increment is the last substep's stiffness total (warm start).
+#define DFSPH_LIST_READ
 #include "sph_params.glsl"
 #include "sph_kernels.glsl"
 #include "sph_dfsph.glsl"
@@ -12,12 +13,6 @@ layout(local_size_x = SIM_WG) in;
 layout(std430, binding = SPHFX_SSBO_SIM_POS) readonly buffer SimPos { vec4 pos[]; };
 layout(std430, binding = SPHFX_SSBO_SIM_VEL) readonly buffer SimVel { vec4 vel[]; };
 layout(std430, binding = SPHFX_SSBO_SIM_DENSITY) readonly buffer SimDensity { vec2 densityPressure[]; };
-layout(std430, binding = SPHFX_SSBO_SIM_CELL_START) readonly buffer SimCellStart { uint cellStart[]; };
-layout(std430, binding = SPHFX_SSBO_SIM_BOUNDARY_POS) readonly buffer SimBoundaryPos { vec4 bpos[]; };
-layout(std430, binding = SPHFX_SSBO_SIM_BOUNDARY_VEL) readonly buffer SimBoundaryVel { vec4 bvel[]; };
-layout(std430, binding = SPHFX_SSBO_SIM_BOUNDARY_CELL_START) readonly buffer SimBoundaryStart {
-  uint bStart[];
-};
 layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_INCREMENT) writeonly buffer DfsphIncrement { float increment[]; };
 layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_PARTIAL) writeonly buffer DfsphPartial { float partial[]; };
 #if defined(DFSPH_DIVERGENCE)
@@ -36,26 +31,17 @@ vec3 velocity(uint j) {
 #endif
 }
 
-// D rho_i / Dt = sum_j m (v_i - v_j) . grad W_ij + sum_b psi_b (v_i - v_b) . grad W_ib
+// D rho_i / Dt = sum_j m (v_i - v_j) . grad W_ij + sum_b psi_b (v_i - v_b) . grad W_ib, from the list.
 float densityChange(uint i) {
-  vec3 xi = pos[i].xyz, vi = velocity(i);
-  ivec3 cell = sphCell(xi);
-  float fluid = 0.0, wall = 0.0;
-  for (int dz = -1; dz <= 1; ++dz)
-    for (int dy = -1; dy <= 1; ++dy) {
-      uint first, last;
-      if (!sphRow(cell, dy, dz, first, last)) continue;
-      for (uint j = cellStart[first], e = cellStart[last]; j < e; ++j) {
-        vec3 d = xi - pos[j].xyz;
-        if (dot(d, d) < simKernel.w && j != i) fluid += dot(vi - velocity(j), dfsphDensityGrad(d));
-      }
-      for (uint j = bStart[first], e = bStart[last]; j < e; ++j) {
-        vec4 b = bpos[j];
-        vec3 d = xi - b.xyz;
-        if (dot(d, d) < simKernel.w) wall += b.w * dot(vi - bvel[j].xyz, dfsphDensityGrad(d));
-      }
-    }
-  return simGravity.w * fluid + wall;
+  vec3 vi = velocity(i);
+  uint n = simCounts.x, count = dfCount[i];
+  float fluid = 0.0;
+  for (uint k = 0u; k < count; ++k) {
+    vec4 e = dfNbr[k * n + i];
+    fluid += dot(vi - velocity(floatBitsToUint(e.w)), e.xyz);
+  }
+  vec4 b = dfBoundary[i];
+  return fluid + dot(vi, b.xyz) - b.w;
 }
 
 // Projected Jacobi (the stiffness total stays >= 0, as pressure in IISPH): the signed residual moves the

@@ -18,8 +18,10 @@ float chooseDt(float speed2, float accel2) {
   float h = simDomainMin.w;
 #if defined(SOLVER_DFSPH)
   // Incompressible: the flow speed alone limits dt (no sound speed; the solver's accelerations are
-  // not reduced, so stateMaxAccel2 is 0 and the force bound drops out).
-  float dt = speed2 > 0.0 ? simStep.x * h / sqrt(speed2) : simLimits.y;
+  // not reduced, so stateMaxAccel2 is 0 and the force bound drops out). Bender & Koschier's CFL
+  // condition dt <= 0.4 d / |v|max is on the particle diameter d (the spacing), not on h: with h (2 d)
+  // the dam break's fastest particles reached 2x the physical surge speed.
+  float dt = speed2 > 0.0 ? simStep.x * simDomainMax.w / sqrt(speed2) : simLimits.y;
 #else
   float dt = simStep.x * h / (simFluid.w + sqrt(speed2));
 #endif
@@ -37,7 +39,7 @@ void main() {
   }
   float speed2 = uintBitsToFloat(stateMaxSpeed2), accel2 = uintBitsToFloat(stateMaxAccel2);
   float rho = uintBitsToFloat(stateMaxDensity);
-  uint fail = 0u;
+  uint fail = stateFailure;  // bits a solver pass set during this substep (SIM_FAIL_NEIGHBORS)
   if (!finite(speed2) || !finite(accel2) || !finite(rho)) fail |= SIM_FAIL_NONFINITE;
   if (speed2 > simLimits.w * simLimits.w) fail |= SIM_FAIL_SPEED;
   if (rho > simLimits.z) fail |= SIM_FAIL_DENSITY;

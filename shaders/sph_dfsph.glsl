@@ -25,9 +25,28 @@ layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_CONTROL) buffer DfsphControl {
   uint dfArgs[18];
 };
 
-// Kernel gradients: the density change D rho/Dt and the pressure corrections both use the spiky gradient
+// Kernel gradient of every DFSPH sum (density change, factor, pressure corrections): the spiky gradient
 // of the WCSPH force (strong repulsion at short range). The poly6 gradient, consistent with the measured
 // density, was tried for D rho/Dt: its flat centre lets particles settle onto wall samples, and the tank
-// compressed more. The two names keep the factor's coupling of both sums explicit.
-#define dfsphDensityGrad(d) sphSpikyGrad(d, length(d))
-#define dfsphForceGrad(d) sphSpikyGrad(d, length(d))
+// compressed more.
+#define dfsphGrad(d) sphSpikyGrad(d, length(d))
+
+// Neighbour lists, built once per substep by sim_dfsph_factor.comp and read by every solver iteration,
+// so that an iteration visits the ~30 neighbours of a particle instead of the ~200 candidates of its
+// 27 cells, and evaluates no kernel. Slot k of sorted particle i is entry k * N + i (adjacent
+// invocations read adjacent entries). DFSPH_MAX_NEIGHBORS slots per particle (sized from the scene's
+// packing, DFSPHSolver::listSlots); a particle with more fluid neighbours stops the run with a clear
+// error (SIM_FAIL_NEIGHBORS) rather than losing neighbours.
+//   dfNbr[k * N + i]: xyz = m grad W(x_i - x_j), w = j (uint bits)
+//   dfCount[i]: fluid neighbours of i in the list
+//   dfBoundary[i]: xyz = sum_b psi_b grad W(x_i - x_b), w = sum_b psi_b v_b . grad W(x_i - x_b)
+//     (boundary samples do not move during a substep, so their sums are constant in the solves)
+#if defined(DFSPH_LIST_READ)
+layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_NEIGHBORS) readonly buffer DfsphNeighbors { vec4 dfNbr[]; };
+layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_COUNT) readonly buffer DfsphCount { uint dfCount[]; };
+layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_BOUNDARY) readonly buffer DfsphBoundary { vec4 dfBoundary[]; };
+#elif defined(DFSPH_LIST_WRITE)
+layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_NEIGHBORS) writeonly buffer DfsphNeighbors { vec4 dfNbr[]; };
+layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_COUNT) writeonly buffer DfsphCount { uint dfCount[]; };
+layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_BOUNDARY) writeonly buffer DfsphBoundary { vec4 dfBoundary[]; };
+#endif

@@ -40,3 +40,4 @@ layout(std430, binding = SPHFX_SSBO_SIM_STATE) buffer SimStateBlock {
 #define SIM_FAIL_SPEED 2u
 #define SIM_FAIL_DENSITY 4u
 #define SIM_FAIL_DT 8u
+#define SIM_FAIL_NEIGHBORS 16u  // DFSPH: a neighbour list overflowed (set by sim_dfsph_factor.comp)

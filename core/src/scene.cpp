@@ -143,9 +143,10 @@ std::shared_ptr<const Object<SolverSettings>> solverSchema() {
                 "Kernel support radius h as a multiple of the particle spacing.")
         .number("max_density_error", &SolverSettings::maxDensityError, 0.001, "", Range{0, 0.1, true, false},
                 "DFSPH: average density error tolerance, as a fraction of rest density.")
-        .number("max_divergence_error", &SolverSettings::maxDivergenceError, 0.01, "1/s",
-                Range{0, 10, true, false},
-                "DFSPH: average divergence error tolerance, as a fraction of rest density per second.")
+        .number("max_divergence_error", &SolverSettings::maxDivergenceError, 0.0001, "",
+                Range{0, 0.1, true, false},
+                "DFSPH: average divergence error tolerance: mean |D rho/Dt| / rest density times dt, the "
+                "relative density change per time step.")
         .integer("min_iterations", &SolverSettings::minIterations, 2, "", Range::closed(1, 1000),
                  "DFSPH: minimum pressure iterations per step.")
         .integer("max_iterations", &SolverSettings::maxIterations, 100, "", Range::closed(1, 100000),
@@ -172,7 +173,8 @@ std::shared_ptr<const Object<TimeSettings>> timeSchema() {
                 "Time step control: fixed dt, or CFL-adaptive between dt_min and dt_max.")
         .number("dt", &TimeSettings::dt, 0.0007, "s", Range{0, 1, true, false}, "Fixed mode: the time step.")
         .number("cfl_factor", &TimeSettings::cflFactor, 0.4, "", Range{0, 10, true, false},
-                "CFL mode: factor on the acoustic (WCSPH) or flow-speed (DFSPH) limit h / (c + |v|max).")
+                "CFL mode: factor on the acoustic limit h / (c + |v|max) (WCSPH), or on the flow-speed limit "
+                "spacing / |v|max (DFSPH, Bender & Koschier 2015).")
         .number("viscous_factor", &TimeSettings::viscousFactor, 0.125, "", Range{0, 10, true, false},
                 "CFL mode: factor on the viscous limit h^2 / nu.")
         .number("force_factor", &TimeSettings::forceFactor, 0.25, "", Range{0, 10, true, false},

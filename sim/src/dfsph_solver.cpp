@@ -18,9 +18,8 @@ constexpr uint32_t kSourceEntry = 0, kReduceEntry = 1, kApplyEntry = 2;
 static_assert(offsetof(DfsphControl, lastError) == 48 && offsetof(DfsphControl, args) == 56 &&
               sizeof(DfsphControl) == 128);
 
-// Neighbours within h of a particle in the full rest lattice (self excluded).
-int latticeNeighbours(const Scene& scene) {
-  const double q = scene.solver.kernelSupport;
+// Neighbours within q spacings of a particle in a full cubic lattice (self excluded).
+int latticeNeighbours(double q) {
   const int n = int(std::ceil(q));
   int count = 0;
   for (int x = -n; x <= n; ++x)
@@ -29,7 +28,20 @@ int latticeNeighbours(const Scene& scene) {
   return count - 1;
 }
 
+ShaderDefines withSlots(ShaderDefines d, int slots) {
+  d.set("DFSPH_MAX_NEIGHBORS", slots);
+  return d;
+}
+
 }  // namespace
+
+int DFSPHSolver::listSlots(const Scene& scene) {
+  // Twice the neighbours of the densest lattice the scene starts from: a fluid at rest density has
+  // about the lattice count, compression at impacts adds far less than 2x (the solver keeps the density
+  // within a few per cent).
+  const double q = scene.solver.kernelSupport / std::min(1.0, scene.fluid.packing);
+  return std::max(32, 2 * latticeNeighbours(q));
+}
 
 DFSPHSolver::DFSPHSolver(const Scene& scene, const DispatchGate& gate, const ShaderDefines& defines,
                          uint32_t particles)
@@ -40,13 +52,17 @@ DFSPHSolver::DFSPHSolver(const Scene& scene, const DispatchGate& gate, const Sha
       maxIterations_(scene.solver.maxIterations),
       // A particle with fewer than 60 % of a full neighbourhood is at the free surface; its divergence
       // estimate is skipped (SPlisHSPlasH uses 20 of 32 at the same support).
-      minNeighbours_(0.6 * latticeNeighbours(scene)),
+      minNeighbours_(0.6 * latticeNeighbours(scene.solver.kernelSupport)),
+      listSlots_(listSlots(scene)),
       particle_(size_t(std::max<uint32_t>(particles, 1)) * 16),
       increment_(size_t(std::max<uint32_t>(particles, 1)) * 4),
       warm_(size_t(std::max<uint32_t>(particles, 1)) * 4),
       partial_(size_t(groups_) * 4),
       control_(sizeof(DfsphControl)),
-      factor_(ShaderProgram::compute("sim_dfsph_factor.comp", defines)),
+      neighbors_(size_t(std::max<uint32_t>(particles, 1)) * 16 * size_t(listSlots_)),
+      boundary_(size_t(std::max<uint32_t>(particles, 1)) * 16),
+      count_(size_t(std::max<uint32_t>(particles, 1)) * 4),
+      factor_(ShaderProgram::compute("sim_dfsph_factor.comp", withSlots(defines, listSlots_))),
       nonPressure_(ShaderProgram::compute("sim_dfsph_nonpressure.comp", defines)) {
   density_ = makeSolve(defines, false, scene.solver.maxDensityError, 0);
   divergence_ = makeSolve(defines, true, scene.solver.maxDivergenceError, 3 * DispatchGate::kParticleEntry);
@@ -80,6 +96,9 @@ void DFSPHSolver::bind() const {
   warm_.bindStorage(SPHFX_SSBO_SIM_DFSPH_WARM);
   partial_.bindStorage(SPHFX_SSBO_SIM_DFSPH_PARTIAL);
   control_.bindStorage(SPHFX_SSBO_SIM_DFSPH_CONTROL);
+  neighbors_.bindStorage(SPHFX_SSBO_SIM_DFSPH_NEIGHBORS);
+  boundary_.bindStorage(SPHFX_SSBO_SIM_DFSPH_BOUNDARY);
+  count_.bindStorage(SPHFX_SSBO_SIM_DFSPH_COUNT);
 }
 
 void DFSPHSolver::dispatch(const ShaderProgram& p, uint32_t entry, const char* label) const {

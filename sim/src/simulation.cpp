@@ -25,6 +25,7 @@ ManifestJson frameJson(const FrameStats& f) {
   j["dt_mean"] = f.dtMean;
   j["dt_max"] = f.dtMax;
   j["wall_seconds"] = f.wallSeconds;
+  for (const auto& [key, value] : f.solverStats) j[key] = value;
   return j;
 }
 

@@ -184,6 +184,11 @@ void Simulator::checkHealth(const SimState& s) const {
       add(fmt::format("density {:.5g} kg/m^3 above health.max_density_ratio {} x rest density", rho,
                       scene_.health.maxDensityRatio));
     if (s.failure & kFailDt) add(fmt::format("CFL time step below time.dt_min {:.3g} s", scene_.time.dtMin));
+    if (s.failure & kFailNeighbors)
+      add(
+          fmt::format("a particle has more than {} fluid neighbours within the kernel support (packed far "
+                      "denser than fluid.packing {}: the DFSPH neighbour list is full)",
+                      DFSPHSolver::listSlots(scene_), scene_.fluid.packing));
     throw SimulationError(fmt::format("frame {}, substep {}: {}", frame_, s.failSubstep, causes));
   }
   static const char* what[4] = {"with non-finite position, velocity or density", "outside the domain",

@@ -220,3 +220,32 @@ TEST_F(RenderGL, PointImpostorsMatchCpuRayCast) {
   EXPECT_GT(img.pixel(0, h / 2)[3], 0.5f);
   EXPECT_GT(img.pixel(w / 2, h - 1)[3], 0.5f);
 }
+
+// Orthographic camera: point impostors are discs of radius r / pixel size with the ray origin on the near
+// plane, and the depth at the centre is the distance to the sphere's front.
+TEST_F(RenderGL, OrthographicPointImpostorIsAnExactDisc) {
+  const int w = 64, h = 48;
+  const double pixel = 0.1, r = 0.8;  // 8 px radius
+  CameraView cam = test::axisCamera(10, 40, 1, 20);
+  cam.orthographic = true;
+  cam.orthoHeight = h * pixel;
+  ParticleStyle style;
+  style.radius = float(r);
+  Renderer renderer(w, h, 4);
+  // Off-centre by whole pixels: centre at pixel boundary (40, 20) from the top-left.
+  const Image img = renderer.renderParticles({{{0.8f, 0.4f, 0.f}, 0}}, style, test::emptyStage(), cam);
+  EXPECT_EQ(renderer.lastParticleCounts().points, 1u);
+  int wrong = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const double dx = (x + 0.5 - 40) * pixel, dy = (y + 0.5 - 20) * pixel;
+      const double rho2 = dx * dx + dy * dy;
+      if (std::abs(std::sqrt(rho2) - r) < 0.01) continue;  // on the silhouette: rounding decides
+      const bool inside = rho2 < r * r;
+      if (inside != (img.pixel(x, y)[3] > 0.5f)) ++wrong;
+      if (inside) {
+        EXPECT_NEAR(img.depth[size_t(y) * w + x], 10 - std::sqrt(r * r - rho2), 1e-4);
+      }
+    }
+  EXPECT_EQ(wrong, 0);
+}

@@ -67,6 +67,10 @@ class DFSPHSolver : public PressureSolver {
   /// Per-frame statistics for the manifest: mean iterations and final errors of both solvers.
   std::vector<std::pair<std::string, double>> frameStats() const override;
 
+  /// Neighbour-list slots per particle for `scene` (DFSPH_MAX_NEIGHBORS): twice the neighbours of its
+  /// densest starting lattice; a particle with more fluid neighbours stops the run (kFailNeighbors).
+  static int listSlots(const Scene& scene);
+
   /// Reads the statistics of the frames since the last frame start from the GPU (synchronises).
   DfsphFrameStats readFrameStats() const;
 
@@ -90,7 +94,8 @@ class DFSPHSolver : public PressureSolver {
   uint32_t particles_, groups_;
   int minIterations_, maxIterations_;
   double minNeighbours_;
-  GpuBuffer particle_, increment_, warm_, partial_, control_;
+  int listSlots_;
+  GpuBuffer particle_, increment_, warm_, partial_, control_, neighbors_, boundary_, count_;
   ShaderProgram factor_, nonPressure_;
   Solve density_, divergence_;
 };

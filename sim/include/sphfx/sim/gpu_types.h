@@ -47,7 +47,13 @@ struct SimState {
 };
 
 /// Failure bits of SimState::failure (shaders/sph_params.glsl).
-enum SimFailure : uint32_t { kFailNonFinite = 1, kFailSpeed = 2, kFailDensity = 4, kFailDt = 8 };
+enum SimFailure : uint32_t {
+  kFailNonFinite = 1,
+  kFailSpeed = 2,
+  kFailDensity = 4,
+  kFailDt = 8,
+  kFailNeighbors = 16,  ///< DFSPH: a particle had more fluid neighbours than its list holds
+};
 
 /// One element of the std430 array SimColliders::colliders[].
 struct ColliderGpu {
