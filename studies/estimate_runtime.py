@@ -2,10 +2,9 @@
 # Run-time estimate of a study (studies/full.json) from a cost model calibrated on a finished study's
 # results.csv (the quick study's): wall = particles x steps / throughput(particles) + 0.5 s start-up,
 # throughput interpolated (log of particles) between the measured runs; steps = simulated time / dt
-# with dt from the scene's CFL, viscous and dt_max limits (flow speed: 4 m/s dam break, 0.5 m/s
-# hydrostatic, 3 mm/s Poiseuille) or the fixed dt; a DFSPH step counted as 95 WCSPH steps (measured:
-# dam break at spacing 0.02, 600 particles: WCSPH 1090 steps in 4.05 s, DFSPH 144 steps in 51.0 s;
-# docs/accuracy.md).
+# with dt from the CFL (WCSPH: cfl h / (c + v); DFSPH: cfl spacing / v), viscous and dt_max limits
+# (flow speed v: 4 m/s dam break, 0.5 m/s hydrostatic, 3 mm/s Poiseuille) or the fixed dt; a DFSPH step
+# counted as DFSPH_STEP_COST WCSPH steps (measured on the dam break, docs/accuracy.md).
 # Runs that stop early on a health check (fixed dt above the stable one) make the real study shorter.
 # Usage: python3 studies/estimate_runtime.py studies/full.json docs/quick-study/results.csv
 import json, math, itertools, sys, csv
@@ -24,7 +23,7 @@ def throughput(n):
     for (n0, t0), (n1, t1) in zip(pts, pts[1:]):
         if n0 <= n <= n1:
             return t0 + (t1 - t0) * (math.log(n) - math.log(n0)) / (math.log(n1) - math.log(n0) or 1)
-DFSPH_STEP_COST = 95
+DFSPH_STEP_COST = 5.5
 total = 0; per = {}
 for c in study['cases']:
     sc = load(c['scene'])
@@ -43,7 +42,7 @@ for c in study['cases']:
         dfsph = p.get('solver.method') == 'dfsph'
         fixed = p.get('time.dt_mode') == 'fixed'
         if fixed: dt = float(p['time.dt'])
-        elif dfsph: dt = min(float(p.get('time.cfl_factor', 0.4)) * h / vmax, float(p.get('time.dt_max', 0.005)), 1 / fps / 2)
+        elif dfsph: dt = min(float(p.get('time.cfl_factor', 0.4)) * s / vmax, float(p.get('time.dt_max', 0.005)), 1 / fps / 2)
         else:
             dt = min(float(p.get('time.cfl_factor', 0.4)) * h / (c0 + vmax), 0.005)
             if sc['fluid'].get('viscosity_model') == 'laplacian':
