@@ -37,7 +37,7 @@ void main() {
         if (sphRow(cell, dy, dz, first, last)) {
           uint f0 = cellStart[first], b0 = bStart[first];
           for (uint j = f0, e = cellStart[last]; j < e; ++j) {
-            vec3 d = xi - pos[j].xyz;
+            vec3 d = sphDelta(xi, pos[j].xyz);
             float r2 = dot(d, d);
             fluid += sphPoly6(r2);
 #if defined(SIM_NEIGHBOR_MASKS)
@@ -46,7 +46,7 @@ void main() {
           }
           for (uint j = b0, e = bStart[last]; j < e; ++j) {
             vec4 b = bpos[j];
-            vec3 d = xi - b.xyz;
+            vec3 d = sphDelta(xi, b.xyz);
             float r2 = dot(d, d);
             wall += b.w * sphPoly6(r2);
 #if defined(SIM_NEIGHBOR_MASKS)
@@ -54,6 +54,20 @@ void main() {
 #endif
           }
         }
+#if defined(SIM_PERIODIC_X)
+        // The cell across the seam: not in the masks (sim_force tests its candidates itself).
+        if (sphRowWrap(cell, dy, dz, first, last)) {
+          for (uint j = cellStart[first], e = cellStart[last]; j < e; ++j) {
+            vec3 d = sphDelta(xi, pos[j].xyz);
+            fluid += sphPoly6(dot(d, d));
+          }
+          for (uint j = bStart[first], e = bStart[last]; j < e; ++j) {
+            vec4 b = bpos[j];
+            vec3 d = sphDelta(xi, b.xyz);
+            wall += b.w * sphPoly6(dot(d, d));
+          }
+        }
+#endif
 #if defined(SIM_NEIGHBOR_MASKS)
         neighbors[row * n + i] = fluidMask;
         neighbors[(9u + row) * n + i] = wallMask;

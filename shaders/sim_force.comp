@@ -36,7 +36,7 @@ float artificialViscosity(vec3 vij, vec3 xij, float r2, float rhoSum) {
 vec3 fluidTerm(uint j, vec3 xi, vec3 vi, float rhoi, float dpi) {
   vec3 a = vec3(0.0);
   {
-    vec3 d = xi - pos[j].xyz;
+    vec3 d = sphDelta(xi, pos[j].xyz);
     float r2 = dot(d, d);
     float r = sqrt(r2);
     vec3 grad = sphSpikyGrad(d, r);
@@ -55,7 +55,7 @@ vec3 fluidTerm(uint j, vec3 xi, vec3 vi, float rhoi, float dpi) {
 vec3 fluidTerms(uint i, vec3 xi, vec3 vi, float rhoi, float dpi, uint first, uint last) {
   vec3 a = vec3(0.0);
   for (uint j = first; j < last; ++j) {
-    vec3 d = xi - pos[j].xyz;
+    vec3 d = sphDelta(xi, pos[j].xyz);
     if (dot(d, d) >= simKernel.w || j == i) continue;
     a += fluidTerm(j, xi, vi, rhoi, dpi);
   }
@@ -67,7 +67,7 @@ vec3 boundaryTerm(uint j, vec3 xi, vec3 vi, float rhoi, float dpi) {
   vec3 a = vec3(0.0);
   {
     vec4 b = bpos[j];
-    vec3 d = xi - b.xyz;
+    vec3 d = sphDelta(xi, b.xyz);
     float r2 = dot(d, d);
     float r = sqrt(r2);
     vec3 grad = sphSpikyGrad(d, r);
@@ -76,7 +76,8 @@ vec3 boundaryTerm(uint j, vec3 xi, vec3 vi, float rhoi, float dpi) {
 #if defined(VISCOSITY_ARTIFICIAL)
     coef += artificialViscosity(vi - bvel[j].xyz, d, r2, 2.0 * rhoi);
 #elif defined(VISCOSITY_LAPLACIAN)
-    a += (b.w * simViscosity.x / (rhoi * rhoi) * sphViscosityLaplacian(r)) * (bvel[j].xyz - vi);
+    // As a fluid neighbour of mass psi_b and density rho_b = rho_i at the wall's velocity (no slip).
+    a += (b.w * simViscosity.x / rhoi * sphViscosityLaplacian(r)) * (bvel[j].xyz - vi);
 #endif
     a -= (b.w * coef) * grad;
   }
@@ -86,7 +87,7 @@ vec3 boundaryTerm(uint j, vec3 xi, vec3 vi, float rhoi, float dpi) {
 vec3 boundaryTerms(vec3 xi, vec3 vi, float rhoi, float dpi, uint first, uint last) {
   vec3 a = vec3(0.0);
   for (uint j = first; j < last; ++j) {
-    vec3 d = xi - bpos[j].xyz;
+    vec3 d = sphDelta(xi, bpos[j].xyz);
     if (dot(d, d) >= simKernel.w) continue;
     a += boundaryTerm(j, xi, vi, rhoi, dpi);
   }
@@ -112,6 +113,13 @@ void main() {
     for (int dz = -1; dz <= 1; ++dz)
       for (int dy = -1; dy <= 1; ++dy) {
         uint first, last;
+#if defined(SIM_PERIODIC_X)
+        // The cell across the seam (not in the density pass's masks): distance-tested here.
+        if (sphRowWrap(cell, dy, dz, first, last)) {
+          a += fluidTerms(i, xi, vi, dpi.x, dpi.y, cellStart[first], cellStart[last]);
+          a += boundaryTerms(xi, vi, dpi.x, dpi.y, bStart[first], bStart[last]);
+        }
+#endif
         if (!sphRow(cell, dy, dz, first, last)) {
 #if defined(SIM_NEIGHBOR_MASKS)
           ++row;

@@ -19,7 +19,14 @@ void main() {
   uint id = floatBitsToUint(p.w);
   float rho = densityPressure[i].x;
   if (any(isnan(x)) || any(isinf(x)) || any(isnan(v)) || any(isinf(v)) || isnan(rho)) flag(0u, id);
-  if (any(lessThan(x, simDomainMin.xyz)) || any(greaterThan(x, simDomainMax.xyz))) flag(1u, id);
+  bool outside = any(lessThan(x, simDomainMin.xyz)) || any(greaterThan(x, simDomainMax.xyz));
+#if defined(SIM_PERIODIC_X)
+  outside = outside || x.x >= simDomainMax.x;  // periodic: [min, max), max is min's image
+#endif
+#if defined(SIM_PERIODIC_Z)
+  outside = outside || x.z >= simDomainMax.z;
+#endif
+  if (outside) flag(1u, id);
   if (dot(v, v) > simLimits.w * simLimits.w) flag(2u, id);
   if (rho > simLimits.z) flag(3u, id);
 }

@@ -30,12 +30,71 @@ float sphPressure(float rho) {
 
 // Row (dy, dz) of the 3x3x3 cell neighbourhood of `cell`: cells (x-1..x+1, y+dy, z+dz) are contiguous
 // in the sorted order because x varies fastest, so the whole row is one range of the sorted arrays,
-// from starts[first] to starts[last]. False for rows outside the grid.
+// from starts[first] to starts[last]. False for rows outside the grid. With SIM_PERIODIC_Z the rows
+// wrap around in z (the grid has >= 3 cells there, so no row is visited twice); with SIM_PERIODIC_X
+// this is the part of the row inside the grid and sphRowWrap() gives the cell across the seam.
 bool sphRow(ivec3 cell, int dy, int dz, out uint first, out uint last) {
   ivec3 r = cell + ivec3(0, dy, dz);
+#if defined(SIM_PERIODIC_Z)
+  r.z = (r.z + simGridDims.z) % simGridDims.z;
+#endif
   if (r.y < 0 || r.z < 0 || r.y >= simGridDims.y || r.z >= simGridDims.z) return false;
   uint base = uint(simGridDims.x * (r.y + simGridDims.y * r.z));
   first = base + uint(max(r.x - 1, 0));
   last = base + uint(min(r.x + 1, simGridDims.x - 1)) + 1u;
   return true;
 }
+
+// Periodic boundaries (SIM_PERIODIC_X, SIM_PERIODIC_Z; scene domain.periodic). A periodic axis has
+// floor(extent / h) >= 3 cells, the last one taking the remainder, so the cells tile the period.
+// Every pair distance goes through sphDelta() (minimum image), and a neighbour row of a particle in the
+// first or last x column also has the cell on the other side of the seam (sphRowWrap()). Without
+// periodic axes both compile to exactly the code before them.
+
+// Offset x_i - x_j, reduced to the nearest periodic image along the periodic axes.
+vec3 sphDelta(vec3 xi, vec3 xj) {
+  vec3 d = xi - xj;
+#if defined(SIM_PERIODIC_X)
+  float lx = simDomainMax.x - simDomainMin.x;
+  d.x -= lx * round(d.x / lx);
+#endif
+#if defined(SIM_PERIODIC_Z)
+  float lz = simDomainMax.z - simDomainMin.z;
+  d.z -= lz * round(d.z / lz);
+#endif
+  return d;
+}
+
+#if defined(SIM_PERIODIC_X)
+// The cell of row (dy, dz) of `cell` that lies across the x seam: cell nx-1 for a particle in column 0,
+// cell 0 for one in column nx-1 (one cell, i.e. the range starts[first] to starts[last]). False for
+// particles in the other columns and for rows outside the grid. sphRow() gives the rest of the row.
+bool sphRowWrap(ivec3 cell, int dy, int dz, out uint first, out uint last) {
+  int nx = simGridDims.x;
+  if (cell.x != 0 && cell.x != nx - 1) return false;
+  if (!sphRow(cell, dy, dz, first, last)) return false;
+  uint base = first - uint(max(cell.x - 1, 0));  // start of the row's x = 0 cell
+  first = base + uint(cell.x == 0 ? nx - 1 : 0);
+  last = first + 1u;
+  return true;
+}
+#endif
+
+#if defined(SIM_PERIODIC_X) || defined(SIM_PERIODIC_Z)
+float sphWrapAxis(float x, float lo, float hi) {
+  float x2 = x - (hi - lo) * floor((x - lo) / (hi - lo));
+  // Rounding may land exactly on hi; NaN stays NaN for the health check.
+  return (x2 >= hi || x2 < lo) ? lo : x2;
+}
+
+// A position brought back into [min, max) along the periodic axes (integration, after the move).
+vec3 sphWrapPosition(vec3 x) {
+#if defined(SIM_PERIODIC_X)
+  x.x = sphWrapAxis(x.x, simDomainMin.x, simDomainMax.x);
+#endif
+#if defined(SIM_PERIODIC_Z)
+  x.z = sphWrapAxis(x.z, simDomainMin.z, simDomainMax.z);
+#endif
+  return x;
+}
+#endif

@@ -67,6 +67,13 @@ std::shared_ptr<const Object<Domain>> domainSchema() {
     o.vec3("min", &Domain::min, {0, 0, 0}, "m", Range::any(), "Lower corner of the domain box (solid walls).")
         .vec3("max", &Domain::max, {1, 1, 1}, "m", Range::any(),
               "Upper corner of the domain box (solid walls).")
+        .choiceList(
+            "periodic", &Domain::periodic, std::vector<PeriodicAxis>{},
+            {{"x", PeriodicAxis::X}, {"z", PeriodicAxis::Z}},
+            "Axes along which the domain wraps around (periodic boundaries): no walls on those faces, "
+            "particles leaving through max re-enter at min. WCSPH only, no colliders; each periodic "
+            "extent must be at least 3 kernel radii, and a fluid block spanning it must hold a whole "
+            "number of lattice spacings (no gap or overlap at the seam).")
         .check([](const Domain& d, const Json&, const std::string& path) {
           for (int a = 0; a < 3; ++a)
             if (!(d.min[a] < d.max[a]))
@@ -353,6 +360,43 @@ void checkSceneGeometry(const Scene& s, const Json&, const std::string&) {
                                   s.fluid.spacing, n, kMaxParticles));
 }
 
+/// Periodic axes: what the solvers and the seam need (see the "periodic" description).
+void checkPeriodic(const Scene& s, const Json&, const std::string&) {
+  if (!s.domain.anyPeriodic()) return;
+  if (s.solver.method == Solver::DFSPH)
+    throw SchemaError("/domain/periodic",
+                      "periodic boundaries are not supported by the dfsph solver yet (solver.method is "
+                      "\"dfsph\"); use \"wcsph\" or remove domain.periodic");
+  if (!s.colliders.empty())
+    throw SchemaError("/colliders",
+                      "colliders are not supported in a periodic domain yet (domain.periodic "
+                      "is set); remove the colliders or domain.periodic");
+  const double h = s.kernelRadius(), lattice = s.fluid.spacing * s.fluid.packing;
+  for (int a : {0, 2}) {
+    if (!s.domain.isPeriodic(a)) continue;
+    const std::string axis = a == 0 ? "x" : "z";
+    const double extent = s.domain.max[a] - s.domain.min[a];
+    // The neighbour rows visit the cells either side of a particle's cell; with fewer than 3 cells of
+    // size h the two sides would be the same cell across the seam.
+    if (periodicCells(extent, h) < 3)
+      throw SchemaError("/domain/max", fmt::format("the periodic {} extent {} m is less than 3 kernel radii "
+                                                   "(3 h = {} m at spacing {} m)",
+                                                   axis, extent, 3 * h, s.fluid.spacing));
+    for (size_t i = 0; i < s.fluid.blocks.size(); ++i) {
+      Vec3d lo, hi;
+      blockBounds(s.fluid.blocks[i], lo, hi);
+      if (lo[a] > s.domain.min[a] || hi[a] < s.domain.max[a]) continue;
+      const double n = extent / lattice;
+      if (std::fabs(n - std::round(n)) > 1e-6)
+        throw SchemaError(fmt::format("/fluid/blocks/{}", i),
+                          fmt::format("the block spans the periodic {} extent {} m, which is {:.4f} lattice "
+                                      "spacings of {} m: expected a whole number (else the seam has a gap "
+                                      "or an overlap)",
+                                      axis, extent, n, lattice));
+    }
+  }
+}
+
 std::shared_ptr<const Object<Scene>> buildSceneSchema() {
   return makeSchema<Scene>([](Object<Scene>& o) {
     o.integer("version", &Scene::version, 1, "", Range::closed(1, 1), "Scene format version.")
@@ -368,7 +412,10 @@ std::shared_ptr<const Object<Scene>> buildSceneSchema() {
         .child("cache", &Scene::cache, cacheSchema(), "What the particle cache stores.")
         .child("surface", &Scene::surface, surfaceSchema(), "Surfacing defaults.")
         .child("render", &Scene::render, renderSchema(), "Render defaults.")
-        .check(checkSceneGeometry);
+        .check([](const Scene& s, const Json& raw, const std::string& path) {
+          checkSceneGeometry(s, raw, path);
+          checkPeriodic(s, raw, path);
+        });
   });
 }
 
@@ -404,6 +451,16 @@ void forEachSeed(const Scene& scene, Fn&& fn) {
 }
 
 }  // namespace
+
+int periodicCells(double extent, double kernelRadius) {
+  // Exact for extents that are whole multiples of h up to rounding (3 h must give 3 cells).
+  return std::max(1, int(std::floor(extent / kernelRadius + 1e-9)));
+}
+
+bool Domain::isPeriodic(int axis) const {
+  const PeriodicAxis want = axis == 0 ? PeriodicAxis::X : PeriodicAxis::Z;
+  return axis != 1 && std::find(periodic.begin(), periodic.end(), want) != periodic.end();
+}
 
 bool Scene::hasCacheAttribute(CacheAttribute a) const {
   return std::find(cache.attributes.begin(), cache.attributes.end(), a) != cache.attributes.end();

@@ -34,17 +34,17 @@ std::array<int, 3> latticeCells(const P3& lo, const P3& hi, double spacing) {
   return n;
 }
 
-// Cell centres of the lattice over [lo, hi] with index range [-outer, n + outer) per axis, kept where
-// `keep` (given the index) says so.
+// Cell centres of the lattice over [lo, hi] with index range [-outer[a], n[a] + outer[a]) per axis, kept
+// where `keep` (given the index) says so.
 template <class Keep>
-void appendLattice(const P3& lo, const P3& hi, const std::array<int, 3>& n, int outer, double psiPerVolume,
-                   uint32_t body, BoundarySamples& out, Keep keep) {
+void appendLattice(const P3& lo, const P3& hi, const std::array<int, 3>& n, const std::array<int, 3>& outer,
+                   double psiPerVolume, uint32_t body, BoundarySamples& out, Keep keep) {
   P3 step{};
   for (int a = 0; a < 3; ++a) step[a] = (hi[a] - lo[a]) / double(n[a]);
   const double psi = psiPerVolume * step[0] * step[1] * step[2];
-  for (int k = -outer; k < n[2] + outer; ++k)
-    for (int j = -outer; j < n[1] + outer; ++j)
-      for (int i = -outer; i < n[0] + outer; ++i) {
+  for (int k = -outer[2]; k < n[2] + outer[2]; ++k)
+    for (int j = -outer[1]; j < n[1] + outer[1]; ++j)
+      for (int i = -outer[0]; i < n[0] + outer[0]; ++i) {
         if (!keep(std::array<int, 3>{i, j, k})) continue;
         out.rest.push_back({float(lo[0] + (i + 0.5) * step[0]), float(lo[1] + (j + 0.5) * step[1]),
                             float(lo[2] + (k + 0.5) * step[2]), float(psi)});
@@ -87,8 +87,12 @@ BoundarySamples sampleBoundaries(const Scene& scene) {
   // psi per unit volume: the lattice cell s^3 weighs the calibrated particle mass.
   const double psiPerVolume = calibratedParticleMass(scene) / (s * s * s);
   // Domain walls: the shell of `layers` lattice cells around the domain (edges and corners included).
+  // Periodic axes have no walls: the shell spans only [min, max) along them and the solver passes see
+  // its samples across the seam.
   const std::array<int, 3> n = latticeCells(scene.domain.min, scene.domain.max, s);
-  appendLattice(scene.domain.min, scene.domain.max, n, layers, psiPerVolume, BoundarySamples::kWallBody, out,
+  std::array<int, 3> outer{};
+  for (int a = 0; a < 3; ++a) outer[a] = scene.domain.isPeriodic(a) ? 0 : layers;
+  appendLattice(scene.domain.min, scene.domain.max, n, outer, psiPerVolume, BoundarySamples::kWallBody, out,
                 [&](const std::array<int, 3>& idx) {
                   for (int a = 0; a < 3; ++a)
                     if (idx[a] < 0 || idx[a] >= n[a]) return true;
@@ -99,7 +103,7 @@ BoundarySamples sampleBoundaries(const Scene& scene) {
     if (col.shape == Shape::Box) {
       // The inner shell, `layers` cells deep, of the box's own lattice.
       const std::array<int, 3> m = latticeCells(col.min, col.max, s);
-      appendLattice(col.min, col.max, m, 0, psiPerVolume, uint32_t(c), out,
+      appendLattice(col.min, col.max, m, {0, 0, 0}, psiPerVolume, uint32_t(c), out,
                     [&](const std::array<int, 3>& idx) {
                       for (int a = 0; a < 3; ++a)
                         if (idx[a] < layers || idx[a] >= m[a] - layers) return true;

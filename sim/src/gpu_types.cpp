@@ -27,8 +27,12 @@ double calibratedParticleMass(const Scene& scene) {
 
 std::array<int, 3> gridDims(const Scene& scene) {
   std::array<int, 3> dims{};
-  for (int a = 0; a < 3; ++a)
-    dims[a] = std::max(1, int(std::ceil((scene.domain.max[a] - scene.domain.min[a]) / scene.kernelRadius())));
+  for (int a = 0; a < 3; ++a) {
+    const double extent = scene.domain.max[a] - scene.domain.min[a];
+    // Periodic: the cells must tile the period, so the last one takes the remainder (>= h).
+    dims[a] = scene.domain.isPeriodic(a) ? periodicCells(extent, scene.kernelRadius())
+                                         : std::max(1, int(std::ceil(extent / scene.kernelRadius())));
+  }
   return dims;
 }
 
@@ -98,6 +102,8 @@ ShaderDefines simShaderDefines(const Scene& scene) {
   if (scene.fluid.viscosityModel == ViscosityModel::Artificial) d.set("VISCOSITY_ARTIFICIAL");
   if (!scene.colliders.empty()) d.set("HAS_COLLIDERS");
   if (scene.solver.method == Solver::DFSPH) d.set("SOLVER_DFSPH");
+  if (scene.domain.isPeriodic(0)) d.set("SIM_PERIODIC_X");
+  if (scene.domain.isPeriodic(2)) d.set("SIM_PERIODIC_Z");
   return d;
 }
 

@@ -179,27 +179,48 @@ std::string resultTable(const std::vector<const RunResult*>& runs) {
   return t;
 }
 
-/// Observed order along the convergence axis, for each combination of the other parameters.
+/// Observed order along the convergence axis of every error metric (positive at every point; counts
+/// and signed quantities left out), for each combination of the other parameters. Primary metric first.
 std::string convergenceText(const StudyCase& c, const std::vector<const RunResult*>& runs) {
   if (c.convergenceAxis.empty()) return {};
-  std::map<std::string, std::vector<std::pair<double, double>>> groups;
+  const std::string primary = runs.front()->primaryMetric;
+  std::map<std::string, std::map<std::string, std::vector<std::pair<double, double>>>> groups;
+  std::vector<std::string> names{primary};
   for (const RunResult* r : runs) {
     if (!measured(*r)) continue;
     RunResult key = *r;
     const double h = std::stod(key.parameters.at(c.convergenceAxis));
     key.parameters.erase(c.convergenceAxis);
-    groups[parameterText(key)].emplace_back(h, r->metrics.at(r->primaryMetric));
+    for (const auto& [name, value] : r->metrics) {
+      const bool count = name.size() > 8 && name.compare(name.size() - 8, 8, "_samples") == 0;
+      if (count || name == "energy_change" || name == "settle_time") continue;
+      if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
+      groups[parameterText(key)][name].emplace_back(h, value);
+    }
   }
   std::string t = fmt::format(
-      "\nObserved order of convergence of {} along {} (least-squares slope of log error "
-      "against log {}):\n\n| other parameters | points | order |\n|---|---|---|\n",
-      runs.front()->primaryMetric, c.convergenceAxis, c.convergenceAxis);
-  for (const auto& [name, points] : groups) {
-    std::set<double> distinct;
-    for (const auto& p : points) distinct.insert(p.first);
-    t += distinct.size() >= 2
-             ? fmt::format("| {} | {} | {:.2f} |\n", name, points.size(), observedOrder(points))
-             : fmt::format("| {} | {} | (needs two spacings) |\n", name, points.size());
+      "\nObserved order of convergence of each error along {} (least-squares slope of log error "
+      "against log {}):\n\n| other parameters | points |",
+      c.convergenceAxis, c.convergenceAxis);
+  for (const auto& name : names) t += " " + name + " |";
+  t += "\n|---|---|";
+  for (size_t i = 0; i < names.size(); ++i) t += "---|";
+  t += "\n";
+  for (const auto& [group, metrics] : groups) {
+    const auto& primaryPoints = metrics.count(primary) ? metrics.at(primary) : metrics.begin()->second;
+    t += fmt::format("| {} | {} |", group, primaryPoints.size());
+    for (const auto& name : names) {
+      const auto it = metrics.find(name);
+      std::set<double> distinct;
+      bool positive = it != metrics.end();
+      if (positive)
+        for (const auto& [h, e] : it->second) {
+          distinct.insert(h);
+          positive = positive && e > 0;
+        }
+      t += positive && distinct.size() >= 2 ? fmt::format(" {:.2f} |", observedOrder(it->second)) : " - |";
+    }
+    t += "\n";
   }
   return t;
 }

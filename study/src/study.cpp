@@ -26,31 +26,10 @@ std::string valueText(const Json& v) {
   return v.is_string() ? v.get<std::string>() : v.dump();
 }
 
-/// Every combination of the axes' values, as (path, value) lists.
-std::vector<std::vector<std::pair<std::string, Json>>> gridPoints(const std::vector<Axis>& axes) {
-  std::vector<std::vector<std::pair<std::string, Json>>> points{{}};
-  for (const Axis& axis : axes) {
-    std::vector<std::vector<std::pair<std::string, Json>>> next;
-    for (const auto& p : points)
-      for (const Json& v : axis.values) {
-        auto q = p;
-        q.emplace_back(axis.path, v);
-        next.push_back(std::move(q));
-      }
-    points = std::move(next);
-  }
-  return points;
-}
-
 /// Writes the run's resolved scene (base file + case overrides + grid point) and returns its path.
-std::string writeRunScene(const StudySpec& spec, const StudyCase& c,
-                          const std::vector<std::pair<std::string, Json>>& point, const std::string& runDir,
-                          size_t& particles) {
-  const std::string base = (fs::path(spec.directory) / c.scene).string();
-  Json raw = schema::readJsonFile(base, "scene");
-  for (const auto& o : c.set) applyOverride(raw, o);
-  for (const auto& [path, value] : point) applyOverride(raw, path + "=" + valueText(value));
-  const Scene scene = parseScene(raw, base + " (case " + c.name + ")");
+std::string writeRunScene(const StudySpec& spec, const StudyCase& c, const GridPoint& point,
+                          const std::string& runDir, size_t& particles) {
+  const Scene scene = resolveRunScene(spec, c, point);
   particles = countInitialParticles(scene);
   const std::string path = (fs::path(runDir) / "scene.json").string();
   writeTextAtomically(path, sceneToJson(scene).dump(2) + "\n");
@@ -66,16 +45,39 @@ void dropCaches(const std::string& shotDir) {
 
 }  // namespace
 
+std::vector<GridPoint> gridPoints(const StudyCase& c) {
+  std::vector<GridPoint> points{{}};
+  for (const Axis& axis : c.axes) {
+    std::vector<GridPoint> next;
+    for (const auto& p : points)
+      for (const Json& v : axis.values) {
+        auto q = p;
+        q.emplace_back(axis.path, v);
+        next.push_back(std::move(q));
+      }
+    points = std::move(next);
+  }
+  return points;
+}
+
+Scene resolveRunScene(const StudySpec& spec, const StudyCase& c, const GridPoint& point) {
+  const std::string base = (fs::path(spec.directory) / c.scene).string();
+  Json raw = schema::readJsonFile(base, "scene");
+  for (const auto& o : c.set) applyOverride(raw, o);
+  for (const auto& [path, value] : point) applyOverride(raw, path + "=" + valueText(value));
+  return parseScene(raw, base + " (case " + c.name + ")");
+}
+
 std::vector<RunResult> runStudy(const StudySpec& spec, const std::string& outDir,
                                 const StudyOptions& options) {
   std::vector<RunResult> results;
   size_t total = 0;
-  for (const StudyCase& c : spec.cases) total += gridPoints(c.axes).size();
+  for (const StudyCase& c : spec.cases) total += gridPoints(c).size();
   Progress progress("study " + spec.name, int64_t(total));
   fs::create_directories(outDir);
   for (const StudyCase& c : spec.cases) {
     size_t index = 0;
-    for (const auto& point : gridPoints(c.axes)) {
+    for (const auto& point : gridPoints(c)) {
       RunResult r;
       r.caseName = c.name;
       r.primaryMetric = primaryMetric(c.validation);

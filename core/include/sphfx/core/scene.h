@@ -27,11 +27,17 @@ enum class SurfaceMethod { Spheres, ZhuBridson, Anisotropic };
 enum class RenderSource { Surface, Particles };
 enum class ColorBy { Height, Speed };
 enum class ImageFormat { Png, Exr };
+/// Axes along which the domain may wrap around (periodic boundaries).
+enum class PeriodicAxis { X, Z };
 
-/// The simulation domain: a closed box with solid walls on all six sides.
+/// The simulation domain: a box with solid walls on its six sides, except the faces of periodic axes.
 struct Domain {
   Vec3d min{};
   Vec3d max{};
+  std::vector<PeriodicAxis> periodic;  ///< wrapped axes: no walls there, [min, max) repeats
+  /// True if axis 0 (x) or 2 (z) wraps around; y never does.
+  bool isPeriodic(int axis) const;
+  bool anyPeriodic() const { return !periodic.empty(); }
 };
 
 /// A block of fluid present at the first frame.
@@ -182,6 +188,10 @@ schema::Json sceneToJson(const Scene& scene);
 
 /// The parameter reference as Markdown (docs/scene-format.md is this text).
 std::string sceneReferenceMarkdown();
+
+/// Cells of size >= h along a periodic axis of `extent`: floor(extent / h) (the last cell takes the
+/// remainder, so that the cells tile the period and a cell's neighbours across the seam are adjacent).
+int periodicCells(double extent, double kernelRadius);
 
 /// Number of particles the fluid blocks produce (same lattice as the simulator seeds).
 size_t countInitialParticles(const Scene& scene);

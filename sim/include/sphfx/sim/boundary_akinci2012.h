@@ -33,8 +33,9 @@ struct BoundarySamples {
 /// solid samples over its whole kernel support.
 int boundaryLayers(const Scene& scene);
 
-/// Samples the domain walls (a shell outside the domain) and every collider (a shell inside it, at
-/// rest) on a lattice about one fluid spacing apart, boundaryLayers() deep. Deterministic.
+/// Samples the domain walls (a shell outside the domain, none on the faces of periodic axes) and every
+/// collider (a shell inside it, at rest) on a lattice about one fluid spacing apart, boundaryLayers()
+/// deep. Deterministic.
 BoundarySamples sampleBoundaries(const Scene& scene);
 
 class BoundaryAkinci2012 {

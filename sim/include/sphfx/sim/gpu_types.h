@@ -75,7 +75,8 @@ KernelFactors kernelFactors(double h);
 /// spacings, which would compress or expand the fluid in the first steps.)
 double calibratedParticleMass(const Scene& scene);
 
-/// Cells of the neighbour grid over the domain (cell size h).
+/// Cells of the neighbour grid over the domain (cell size h; along a periodic axis floor(extent / h)
+/// cells, the last one wider, see periodicCells()).
 std::array<int, 3> gridDims(const Scene& scene);
 
 /// Distance particles are kept inside the domain walls and outside colliders by the last-resort clamp.
@@ -92,8 +93,8 @@ SimParams makeSimParams(const Scene& scene, uint32_t particles, uint32_t boundar
 /// Work group size of the per-particle passes.
 constexpr int kSimWorkGroup = 64;
 
-/// Shader variant switches of a scene: EOS, viscosity model, colliders. Leaves out what the scene does
-/// not use.
+/// Shader variant switches of a scene: EOS, viscosity model, colliders, periodic axes (SIM_PERIODIC_X,
+/// SIM_PERIODIC_Z). Leaves out what the scene does not use.
 ShaderDefines simShaderDefines(const Scene& scene);
 
 /// Every C++-mirrored block of the simulation stage, for the layout tests.

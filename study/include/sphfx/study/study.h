@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "sphfx/core/scene.h"
 #include "sphfx/core/schema.h"
 
 namespace sphfx::study {
@@ -47,6 +48,14 @@ struct StudySpec {
 
 /// Reads and validates a study file. @throws InputError naming the file and JSON path.
 StudySpec loadStudy(const std::string& path);
+
+/// One run of a case: a value for each axis, as (scene path, value).
+using GridPoint = std::vector<std::pair<std::string, Json>>;
+/// Every run of a case: the Cartesian product of its axes, the first axis varying slowest.
+std::vector<GridPoint> gridPoints(const StudyCase& studyCase);
+/// The scene a run simulates: the case's scene file, its "set" overrides, then the grid point.
+/// @throws InputError if the file is unreadable or the resulting scene is invalid (names case and path).
+Scene resolveRunScene(const StudySpec& spec, const StudyCase& studyCase, const GridPoint& point);
 
 /// How one simulation ended.
 enum class RunStatus { Completed, StoppedCleanly, Failed };

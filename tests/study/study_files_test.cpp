@@ -1,0 +1,83 @@
+// The committed study files: studies/full.json (the complete grid of issue 6, not run in CI) and
+// studies/quick.json load with the study loader, and every run's scene resolves to a valid scene, so a
+// long study cannot stop hours in on a bad grid point.
+#include <gtest/gtest.h>
+
+#include <map>
+#include <set>
+#include <string>
+
+#include "sphfx/core/scene.h"
+#include "sphfx/study/study.h"
+
+using namespace sphfx;
+using namespace sphfx::study;
+
+namespace {
+
+const std::string kStudies = std::string(SPHFX_SOURCE_DIR) + "/studies/";
+
+struct Census {
+  size_t runs = 0;
+  std::map<std::pair<Validation, Solver>, size_t> runsBySolver;
+  std::map<std::string, std::set<double>> spacingsByCase;
+  std::set<std::string> stepControls;  // "cfl" / "fixed", per solver
+  bool soundSpeedVaries = false;
+};
+
+Census census(const std::string& file) {
+  const StudySpec spec = loadStudy(kStudies + file);
+  Census c;
+  for (const StudyCase& sc : spec.cases) {
+    std::map<std::string, std::set<std::string>> values;
+    for (const GridPoint& point : gridPoints(sc)) {
+      const Scene scene = resolveRunScene(spec, sc, point);  // throws on an invalid run
+      ++c.runs;
+      ++c.runsBySolver[{sc.validation, scene.solver.method}];
+      c.spacingsByCase[sc.name].insert(scene.fluid.spacing);
+      c.stepControls.insert(std::string(scene.solver.method == Solver::WCSPH ? "wcsph " : "dfsph ") +
+                            (scene.time.mode == TimeStepMode::Cfl ? "cfl" : "fixed"));
+      if (scene.solver.method == Solver::WCSPH) values["c"].insert(std::to_string(scene.solver.speedOfSound));
+      if (sc.validation == Validation::Poiseuille) {
+        EXPECT_TRUE(scene.domain.isPeriodic(0)) << sc.name;
+        EXPECT_EQ(scene.fluid.viscosityModel, ViscosityModel::Laplacian) << sc.name;
+      }
+    }
+    c.soundSpeedVaries = c.soundSpeedVaries || values["c"].size() >= 3;
+    if (!sc.convergenceAxis.empty()) {
+      EXPECT_EQ(sc.convergenceAxis, "fluid.spacing") << sc.name;
+    }
+  }
+  return c;
+}
+
+TEST(StudyFiles, FullGridCoversSolversSpacingsStepControlAndSoundSpeed) {
+  const Census c = census("full.json");
+  std::printf("studies/full.json: %zu runs\n", c.runs);
+  for (Validation v : {Validation::DamBreak, Validation::Hydrostatic, Validation::Poiseuille})
+    EXPECT_GT(c.runsBySolver.count({v, Solver::WCSPH}), 0u) << int(v);
+  EXPECT_GT(c.runsBySolver.count({Validation::DamBreak, Solver::DFSPH}), 0u);
+  EXPECT_GT(c.runsBySolver.count({Validation::Hydrostatic, Solver::DFSPH}), 0u);
+  // Periodic boundaries are WCSPH only for now (the scene loader would reject the runs anyway).
+  EXPECT_EQ(c.runsBySolver.count({Validation::Poiseuille, Solver::DFSPH}), 0u);
+  for (const auto& [name, spacings] : c.spacingsByCase) EXPECT_GE(spacings.size(), 3u) << name;
+  EXPECT_EQ(c.stepControls, (std::set<std::string>{"wcsph cfl", "wcsph fixed", "dfsph cfl", "dfsph fixed"}));
+  EXPECT_TRUE(c.soundSpeedVaries);
+  size_t sum = 0;
+  for (const auto& [key, n] : c.runsBySolver) sum += n;
+  EXPECT_EQ(sum, c.runs);
+  EXPECT_GT(c.runs, census("quick.json").runs);
+}
+
+TEST(StudyFiles, QuickStudyHasPoiseuilleAtThreeOrMoreSpacings) {
+  const Census c = census("quick.json");
+  std::printf("studies/quick.json: %zu runs\n", c.runs);
+  EXPECT_GT(c.runsBySolver.count({Validation::Poiseuille, Solver::WCSPH}), 0u);
+  for (const auto& [name, spacings] : c.spacingsByCase) {
+    if (name.find("poiseuille") != std::string::npos) {
+      EXPECT_GE(spacings.size(), 3u) << name;
+    }
+  }
+}
+
+}  // namespace
