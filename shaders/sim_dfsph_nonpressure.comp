@@ -58,7 +58,9 @@ vec3 viscosity(uint i, vec3 xi, vec3 vi, float rhoi) {
 #if defined(VISCOSITY_ARTIFICIAL)
         wall -= b.w * artificialViscosity(vi - bvel[j].xyz, d, r2, 2.0 * rhoi) * sphSpikyGrad(d, r);
 #else
-        wall += (b.w * simViscosity.x / (rhoi * rhoi) * sphViscosityLaplacian(r)) * (bvel[j].xyz - vi);
+        // As a fluid neighbour of mass psi_b and density rho_i at the wall's velocity (no slip), as in
+        // sim_force.comp.
+        wall += (b.w * simViscosity.x / rhoi * sphViscosityLaplacian(r)) * (bvel[j].xyz - vi);
 #endif
       }
     }
