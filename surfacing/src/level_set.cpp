@@ -1,18 +1,21 @@
 // Particles to a smoothed narrow-band level set: the three rasterizers, filtering and the calibrated offset.
 #include <fmt/format.h>
-#include <openvdb/points/PointConversion.h>
-#include <openvdb/points/PointRasterizeSDF.h>
 #include <openvdb/tools/Interpolation.h>
 #include <openvdb/tools/LevelSetFilter.h>
+#include <openvdb/tools/Morphology.h>
 #include <openvdb/tools/ParticlesToLevelSet.h>
 #include <openvdb/tools/Prune.h>
+#include <openvdb/tree/LeafManager.h>
+#include <tbb/parallel_for.h>
 
+#include <chrono>
 #include <cmath>
 #include <mutex>
 
 #include "sphfx/core/error.h"
 #include "sphfx/surfacing/anisotropic.h"
 #include "sphfx/surfacing/surfacing.h"
+#include "zhu_bridson.h"
 
 namespace sphfx::surfacing {
 namespace {
@@ -37,6 +40,21 @@ class ParticleList {
   double radius_;
 };
 
+/// Records the wall time since the last lap under `name` in `report` (if any).
+class StageTimer {
+ public:
+  explicit StageTimer(LevelSetReport* report) : report_(report) {}
+  void lap(const char* name) {
+    const auto now = std::chrono::steady_clock::now();
+    if (report_) report_->stageSeconds.emplace_back(name, std::chrono::duration<double>(now - last_).count());
+    last_ = now;
+  }
+
+ private:
+  LevelSetReport* report_;
+  std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
+};
+
 void initOpenVdb() {
   static std::once_flag once;
   std::call_once(once, [] { openvdb::initialize(); });
@@ -51,15 +69,17 @@ void warnSmallRadius(double radius, double voxel, LevelSetReport* report) {
 }
 
 openvdb::FloatGrid::Ptr rasterizeSpheres(const std::vector<std::array<float, 3>>& p,
-                                         const SurfaceParams& params, LevelSetReport* report) {
-  auto grid = openvdb::createLevelSet<openvdb::FloatGrid>(params.voxelSize, params.halfWidth);
-  const double radiusVoxels = params.radius / params.voxelSize;
+                                         const SurfaceParams& params, double halfWidth,
+                                         LevelSetReport* report) {
+  const double radius = params.radius;
+  auto grid = openvdb::createLevelSet<openvdb::FloatGrid>(params.voxelSize, halfWidth);
+  const double radiusVoxels = radius / params.voxelSize;
   openvdb::tools::ParticlesToLevelSet<openvdb::FloatGrid> raster(*grid);
   // OpenVDB silently skips particles below rMin (1.5 voxels) or above rMax; keep every particle instead.
   if (radiusVoxels < raster.getRmin()) raster.setRmin(radiusVoxels * 0.5);
   if (radiusVoxels > raster.getRmax()) raster.setRmax(radiusVoxels * 2);
   warnSmallRadius(params.radius, params.voxelSize, report);
-  raster.rasterizeSpheres(ParticleList(p, params.radius), params.radius);
+  raster.rasterizeSpheres(ParticleList(p, radius), radius);
   raster.finalize(true);
   const size_t dropped = raster.getMinCount() + raster.getMaxCount();
   if (dropped > 0 && report)
@@ -68,34 +88,74 @@ openvdb::FloatGrid::Ptr rasterizeSpheres(const std::vector<std::array<float, 3>>
   return grid;
 }
 
-openvdb::points::PointDataGrid::Ptr toPointDataGrid(const std::vector<std::array<float, 3>>& p,
-                                                    double voxel) {
-  std::vector<openvdb::Vec3R> positions(p.size());
-  for (size_t i = 0; i < p.size(); ++i) positions[i] = openvdb::Vec3R(p[i][0], p[i][1], p[i][2]);
-  auto transform = openvdb::math::Transform::createLinearTransform(voxel);
-  return openvdb::points::createPointDataGrid<openvdb::points::NullCodec, openvdb::points::PointDataGrid>(
-      positions, *transform);
-}
-
-openvdb::FloatGrid::Ptr rasterizeZhuBridson(const std::vector<std::array<float, 3>>& p,
-                                            const SurfaceParams& params, LevelSetReport* report) {
-  warnSmallRadius(params.radius, params.voxelSize, report);
-  // Zhu & Bridson's kernel reaches twice the particle radius: neighbours blend without swelling the surface.
-  const double search = 2 * params.radius;
-  const auto points = toPointDataGrid(p, search);
-  auto transform = openvdb::math::Transform::createLinearTransform(params.voxelSize);
-  auto grid =
-      openvdb::points::rasterizeSmoothSpheres(*points, params.radius, search, params.halfWidth, transform);
-  return grid;
-}
-
 openvdb::FloatGrid::Ptr rasterizeYuTurk(const std::vector<std::array<float, 3>>& p,
-                                        const SurfaceParams& params) {
+                                        const SurfaceParams& params, double halfWidth) {
   AnisotropicSettings settings;
   settings.spacing = params.particleSpacing > 0 ? params.particleSpacing : params.radius;
   settings.support = 2 * params.radius;
   const auto kernels = computeAnisotropicKernels(p, settings);
-  return rasterizeAnisotropic(kernels, params.voxelSize, params.halfWidth);
+  return rasterizeAnisotropic(kernels, params.voxelSize, halfWidth);
+}
+
+/// Deactivates (to +-background) the active voxels farther than `width` voxels (L-infinity) from a
+/// zero crossing, i.e. from a voxel whose face neighbour has the other sign. Zhu-Bridson's field is
+/// about -radius everywhere inside, so without this the whole interior would stay active.
+void restrictToBand(openvdb::FloatGrid& grid, int width) {
+  using MaskTree = openvdb::MaskTree;
+  openvdb::tree::LeafManager<openvdb::FloatTree> leafs(grid.tree());
+  std::vector<std::unique_ptr<MaskTree::LeafNodeType>> crossings(leafs.leafCount());
+  leafs.foreach ([&](const openvdb::FloatTree::LeafNodeType& leaf, size_t idx) {
+    openvdb::FloatGrid::ConstAccessor acc = grid.getConstAccessor();
+    std::unique_ptr<MaskTree::LeafNodeType> mask;
+    for (auto it = leaf.cbeginValueOn(); it; ++it) {
+      const bool inside = *it < 0;
+      const openvdb::Coord c = it.getCoord();
+      bool crossing = false;
+      for (int a = 0; a < 3 && !crossing; ++a)
+        for (int sgn = -1; sgn <= 1 && !crossing; sgn += 2) {
+          openvdb::Coord n = c;
+          n[a] += sgn;
+          crossing = (acc.getValue(n) < 0) != inside;
+        }
+      if (!crossing) continue;
+      if (!mask) mask = std::make_unique<MaskTree::LeafNodeType>(leaf.origin(), false);
+      mask->setValueOn(it.pos());
+    }
+    crossings[idx] = std::move(mask);
+  });
+  MaskTree band(false);
+  for (auto& m : crossings)
+    if (m) band.addLeaf(m.release());
+  openvdb::tools::dilateActiveValues(band, width, openvdb::tools::NN_FACE_EDGE_VERTEX,
+                                     openvdb::tools::IGNORE_TILES);
+  const float background = grid.background();
+  leafs.foreach ([&](openvdb::FloatTree::LeafNodeType& leaf, size_t) {
+    const auto* keep = band.probeConstLeaf(leaf.origin());
+    for (auto it = leaf.beginValueOn(); it; ++it)
+      if (!keep || !keep->isValueOn(it.pos())) leaf.setValueOff(it.pos(), *it < 0 ? -background : background);
+  });
+  openvdb::tools::pruneLevelSet(grid.tree());
+}
+
+/// Mean-curvature smoothing and the calibrated offset with OpenVDB's LevelSetFilter, which
+/// renormalizes and re-tracks the band after every step. (Tried and measured: smoothing without
+/// renormalizing between steps and one renormalization at the end, or folding the offset into the
+/// Zhu-Bridson radius, moved the surface by amounts the flat-slab calibration does not see: the pool top
+/// or the sphere convergence test failed.)
+void smoothAndOffset(openvdb::FloatGrid& grid, int iterations, double offset, StageTimer& timer) {
+  if (iterations <= 0 && offset == 0) return;
+  openvdb::tools::LevelSetFilter<openvdb::FloatGrid> filter(grid);
+  // First-order upwinding for the renormalization after each step: the default fifth-order WENO
+  // scheme costs several times more. Three renormalization sweeps (OpenVDB's default) are kept: with
+  // one, the sphere test's volume error no longer falls as the resolution rises.
+  filter.setSpatialScheme(openvdb::math::FIRST_BIAS);
+  filter.setTemporalScheme(openvdb::math::TVD_RK1);
+  filter.setNormCount(3);
+  // Mean curvature flow: removes the particle bumps without moving flat regions.
+  for (int i = 0; i < iterations; ++i) filter.meanCurvature();
+  timer.lap("smooth");
+  if (offset != 0) filter.offset(float(offset));
+  timer.lap("offset");
 }
 
 void checkParams(const SurfaceParams& params) {
@@ -128,45 +188,45 @@ openvdb::FloatGrid::Ptr buildLevelSet(const std::vector<std::array<float, 3>>& p
                                       const SurfaceParams& params, LevelSetReport* report) {
   initOpenVdb();
   checkParams(params);
+  StageTimer timer(report);
   openvdb::FloatGrid::Ptr grid;
   if (positions.empty()) {
     grid = openvdb::createLevelSet<openvdb::FloatGrid>(params.voxelSize, params.halfWidth);
   } else {
     switch (params.method) {
       case SurfaceMethod::Spheres:
-        grid = rasterizeSpheres(positions, params, report);
+        grid = rasterizeSpheres(positions, params, params.halfWidth, report);
         break;
       case SurfaceMethod::ZhuBridson:
-        grid = rasterizeZhuBridson(positions, params, report);
+        warnSmallRadius(params.radius, params.voxelSize, report);
+        grid = rasterizeZhuBridsonBlocks(positions, params.voxelSize, params.radius, 2 * params.radius,
+                                         params.halfWidth);
+        // Its field is about -r everywhere inside, within the band: keep only the zero crossing's
+        // neighbourhood, or the filter below processes the whole interior.
+        restrictToBand(*grid, int(std::ceil(params.halfWidth)));
         break;
       case SurfaceMethod::Anisotropic:
-        grid = rasterizeYuTurk(positions, params);
+        grid = rasterizeYuTurk(positions, params, params.halfWidth);
         break;
     }
     grid->setGridClass(openvdb::GRID_LEVEL_SET);
-    const double offset = params.calibrate ? params.surfaceOffset : 0.0;
-    if (params.smoothIterations > 0 || offset != 0) {
-      openvdb::tools::LevelSetFilter<openvdb::FloatGrid> filter(*grid);
-      // First-order upwinding for the renormalization after each step: the default fifth-order WENO
-      // scheme costs several times more. Three renormalization sweeps (OpenVDB's default) are kept: with
-      // one, the sphere test's volume error no longer falls as the resolution rises.
-      filter.setSpatialScheme(openvdb::math::FIRST_BIAS);
-      filter.setTemporalScheme(openvdb::math::TVD_RK1);
-      filter.setNormCount(3);
-      // Mean curvature flow: removes the particle bumps without moving flat regions.
-      for (int i = 0; i < params.smoothIterations; ++i) filter.meanCurvature();
-      if (offset != 0) filter.offset(float(offset));
-    }
+    timer.lap("rasterize");
+    smoothAndOffset(*grid, params.smoothIterations, params.calibrate ? params.surfaceOffset : 0.0, timer);
     openvdb::tools::pruneLevelSet(grid->tree());
+    timer.lap("prune");
   }
   grid->setName("surface");
   grid->setGridClass(openvdb::GRID_LEVEL_SET);
   return grid;
 }
 
-double calibrateOffset(const SurfaceParams& params) {
+namespace {
+
+/// Height of a flat lattice face surfaced with `params`, minus where it should be (half a spacing
+/// beyond the outer particles); NaN if the spacing is unknown or no crossing was found.
+double slabTopError(const SurfaceParams& params) {
   const double s = params.particleSpacing;
-  if (!(s > 0)) return 0;
+  if (!(s > 0)) return std::nan("");
   // A slab wide enough that its sides do not reach the centre column: kernel reach, smoothing spread
   // (about a voxel per iteration) and the band.
   const double reach =
@@ -179,9 +239,7 @@ double calibrateOffset(const SurfaceParams& params) {
     for (int j = 0; j < width; ++j)
       for (int k = 0; k < depth; ++k)
         lattice.push_back({float((i - half) * s), float((j - half) * s), float(k * s)});
-  SurfaceParams uncalibrated = params;
-  uncalibrated.calibrate = false;
-  const auto grid = buildLevelSet(lattice, uncalibrated, nullptr);
+  const auto grid = buildLevelSet(lattice, params, nullptr);
   // Average the surface height over one lattice period around the centre particle.
   const double top = (depth - 1) * s;
   constexpr int kSamples = 8;
@@ -196,8 +254,19 @@ double calibrateOffset(const SurfaceParams& params) {
         ++count;
       }
     }
-  if (count == 0) return 0;
+  if (count == 0) return std::nan("");
   return sum / count - 0.5 * s;
+}
+
+}  // namespace
+
+double calibrateOffset(const SurfaceParams& params) {
+  SurfaceParams uncalibrated = params;
+  uncalibrated.calibrate = false;
+  uncalibrated.surfaceOffset = 0;
+  const double first = slabTopError(uncalibrated);
+  if (!std::isfinite(first)) return 0;
+  return first;
 }
 
 }  // namespace sphfx::surfacing

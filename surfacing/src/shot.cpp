@@ -149,17 +149,29 @@ SurfaceParams resolveParams(double spacing, const SurfaceSettings& settings, con
 FrameStats surfaceFrame(const std::string& cachePath, const std::string& surfaceFile,
                         const std::string& meshFile, const SurfaceParams& params) {
   const auto start = std::chrono::steady_clock::now();
+  auto lap = start;
+  FrameStats s;
+  auto timeStage = [&](const char* name) {
+    const auto now = std::chrono::steady_clock::now();
+    s.stageSeconds.emplace_back(name, std::chrono::duration<double>(now - lap).count());
+    lap = now;
+  };
   const ParticleFrame particles = readParticleCache(cachePath);
+  timeStage("read");
   LevelSetReport report;
   auto grid = buildLevelSet(particles.position, params, &report);
+  s.stageSeconds.insert(s.stageSeconds.end(), report.stageSeconds.begin(), report.stageSeconds.end());
+  lap = std::chrono::steady_clock::now();
   for (const auto& w : report.warnings) logWarning(cachePath + ": " + w);
   grid->insertMeta("frame", openvdb::Int32Metadata(particles.frame));
   grid->insertMeta("sphfx_surface_method", openvdb::StringMetadata(methodName(params.method)));
   grid->insertMeta("particle_spacing", openvdb::DoubleMetadata(params.particleSpacing));
   const TriangleMesh mesh = meshLevelSet(*grid, params.adaptivity);
+  timeStage("mesh");
   writeLevelSet(surfaceFile, *grid);
+  timeStage("write_vdb");
   writePly(meshFile, mesh);
-  FrameStats s;
+  timeStage("write_ply");
   s.frame = particles.frame;
   s.particles = particles.size();
   s.activeVoxels = grid->activeVoxelCount();

@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "sphfx/core/frame_files.h"
@@ -66,6 +67,7 @@ double calibrateOffset(const SurfaceParams& params);
 /// What happened while building one level set.
 struct LevelSetReport {
   std::vector<std::string> warnings;  ///< e.g. particles OpenVDB would have dropped, and what was done
+  std::vector<std::pair<std::string, double>> stageSeconds;  ///< wall time of each step, in order
 };
 
 /// Builds the narrow-band level set (FloatGrid, class GRID_LEVEL_SET, name "surface") of `positions`:
@@ -94,6 +96,7 @@ struct FrameStats {
   uint64_t activeVoxels = 0;
   size_t vertices = 0;
   size_t triangles = 0;
+  std::vector<std::pair<std::string, double>> stageSeconds;  ///< wall time of each step (not in manifest)
 };
 
 /// Surfaces one particle frame: reads `cachePath`, writes the level set and the mesh atomically.
