@@ -1,6 +1,6 @@
 // The shot-level render stage: frames from a small synthetic shot (particle caches and meshes on disk),
 // skipping, manifest, contact sheet; and image regression of a real (tiny) dam-break frame against
-// committed references (tests/render/data/dam_break_tiny).
+// committed references (tests/data/render/dam_break_tiny).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -129,10 +129,10 @@ bool withinThresholds(const Diff& d) {
   return d.mean <= kMaxMeanError && d.max <= kMaxError;
 }
 
-const std::string kDamBreakDir = std::string(SPHFX_SOURCE_DIR) + "/tests/render/data/dam_break_tiny";
+const std::string kDamBreakDir = std::string(SPHFX_SOURCE_DIR) + "/tests/data/render/dam_break_tiny";
 constexpr int kDamBreakFrame = 8;
 
-/// The committed reference tests/render/data/dam_break_tiny/NAME.png; with SPHFX_UPDATE_REFERENCES=1,
+/// The committed reference tests/data/render/dam_break_tiny/NAME.png; with SPHFX_UPDATE_REFERENCES=1,
 /// `rendered` is written there first (then inspect it and commit it).
 Image8 reference(const std::string& name, const Image8& rendered) {
   const std::string ref = kDamBreakDir + "/" + name + ".png";
