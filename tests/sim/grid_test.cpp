@@ -119,44 +119,14 @@ TEST(NeighborGrid, NeighbourSetsMatchBruteForce) {
   for (int i = 0; i < 300; ++i)  // a dense cluster
     items.push_back({0.151f + 0.002f * u(rng), 0.1f + 0.002f * u(rng), 0.12f + 0.002f * u(rng), 0});
   for (size_t i = 0; i < items.size(); ++i) items[i][3] = std::bit_cast<float>(uint32_t(i));
-  const uint32_t n = uint32_t(items.size()), maxN = 400;
-
-  sim::DispatchGate gate(n);
-  sim::NeighborGrid grid(gate, sim::GridSpec::forScene(scene), n);
-  gate.arm();
-  GpuBuffer pos(n * 16), vel(n * 16), sorted(n * 16), sortedVel(n * 16), out(size_t(n) * (maxN + 1) * 4);
-  pos.uploadVector(items);
-  vel.uploadVector(items);
-  grid.build(pos, vel, sorted, sortedVel);
-  const sim::SimParams params = sim::makeSimParams(scene, n, 0, gate.entries());
-  GpuBuffer ubo(sizeof params);
-  ubo.upload(&params, sizeof params);
-  ubo.bindUniform(SPHFX_UBO_SIM_PARAMS);
-  sorted.bindStorage(SPHFX_SSBO_SIM_POS);
-  grid.cellStart().bindStorage(SPHFX_SSBO_SIM_CELL_START);
-  out.bindStorage(SPHFX_SSBO_SIM_GRID_NEIGHBORS);
-  ShaderProgram program = ShaderProgram::compute("sim_grid_neighbors.comp");
-  program.use();
-  glUniform1ui(program.uniform("uMaxNeighbors"), maxN);
-  glMemoryBarrier(GL_ALL_BARRIER_BITS);
-  dispatchCompute1D(program, n, "neighbors");
-  glMemoryBarrier(GL_ALL_BARRIER_BITS);
-  const auto got = out.downloadVector<uint32_t>(size_t(n) * (maxN + 1));
-  const auto sortedItems = sorted.downloadVector<Vec4>(n);
-
-  for (uint32_t s = 0; s < n; ++s) {
-    const uint32_t id = std::bit_cast<uint32_t>(sortedItems[s][3]);
+  const uint32_t n = uint32_t(items.size());
+  for (const auto& [id, found] : test::gpuNeighbours(scene, items)) {
     std::set<uint32_t> expect;
     for (uint32_t j = 0; j < n; ++j) {
       float d2 = 0;
       for (int a = 0; a < 3; ++a) d2 += (items[id][a] - items[j][a]) * (items[id][a] - items[j][a]);
       if (d2 < h * h) expect.insert(j);
     }
-    const uint32_t count = got[size_t(s) * (maxN + 1)];
-    ASSERT_LE(count, maxN);
-    const std::set<uint32_t> found(got.begin() + long(s) * (maxN + 1) + 1,
-                                   got.begin() + long(s) * (maxN + 1) + 1 + count);
-    ASSERT_EQ(found.size(), count) << "duplicates for item " << id;
     ASSERT_EQ(found, expect) << "item " << id;
   }
 }

@@ -34,45 +34,6 @@ namespace {
 // ---------------------------------------------------------------------------------------------------
 // Neighbour search
 
-/// Items within h of each item through the GPU grid and sim_grid_neighbors.comp compiled with the scene's
-/// shader defines (the same sphRow/sphRowWrap/sphDelta as the solver passes). Per sorted slot: ids.
-std::vector<std::pair<uint32_t, std::set<uint32_t>>> gpuNeighbours(const Scene& scene,
-                                                                   const std::vector<Vec4>& items) {
-  const uint32_t n = uint32_t(items.size()), maxN = 400;
-  sim::DispatchGate gate(n);
-  sim::NeighborGrid grid(gate, sim::GridSpec::forScene(scene), n);
-  gate.arm();
-  GpuBuffer pos(n * 16), vel(n * 16), sorted(n * 16), sortedVel(n * 16), out(size_t(n) * (maxN + 1) * 4);
-  pos.uploadVector(items);
-  vel.uploadVector(items);
-  grid.build(pos, vel, sorted, sortedVel);
-  const sim::SimParams params = sim::makeSimParams(scene, n, 0, gate.entries());
-  GpuBuffer ubo(sizeof params);
-  ubo.upload(&params, sizeof params);
-  ubo.bindUniform(SPHFX_UBO_SIM_PARAMS);
-  sorted.bindStorage(SPHFX_SSBO_SIM_POS);
-  grid.cellStart().bindStorage(SPHFX_SSBO_SIM_CELL_START);
-  out.bindStorage(SPHFX_SSBO_SIM_GRID_NEIGHBORS);
-  ShaderProgram program = ShaderProgram::compute("sim_grid_neighbors.comp", sim::simShaderDefines(scene));
-  program.use();
-  glUniform1ui(program.uniform("uMaxNeighbors"), maxN);
-  glMemoryBarrier(GL_ALL_BARRIER_BITS);
-  dispatchCompute1D(program, n, "neighbors");
-  glMemoryBarrier(GL_ALL_BARRIER_BITS);
-  const auto got = out.downloadVector<uint32_t>(size_t(n) * (maxN + 1));
-  const auto sortedItems = sorted.downloadVector<Vec4>(n);
-  std::vector<std::pair<uint32_t, std::set<uint32_t>>> result;
-  for (uint32_t s = 0; s < n; ++s) {
-    const uint32_t count = got[size_t(s) * (maxN + 1)];
-    EXPECT_LE(count, maxN);
-    const auto begin = got.begin() + long(s) * (maxN + 1) + 1;
-    const std::set<uint32_t> found(begin, begin + std::min(count, maxN));
-    EXPECT_EQ(found.size(), count) << "duplicate neighbours (a cell visited twice across the seam)";
-    result.emplace_back(std::bit_cast<uint32_t>(sortedItems[s][3]), found);
-  }
-  return result;
-}
-
 /// Squared minimum-image distance on the CPU, in double.
 double minImageDistance2(const Scene& scene, const Vec4& a, const Vec4& b) {
   double d2 = 0;
@@ -110,7 +71,7 @@ std::vector<Vec4> seamItems(const Scene& scene, int count, unsigned seed) {
 void expectNeighboursMatchBruteForce(const Scene& scene, const std::vector<Vec4>& items) {
   const double h2 = scene.kernelRadius() * scene.kernelRadius();
   size_t seamPairs = 0, ambiguous = 0;
-  for (const auto& [id, found] : gpuNeighbours(scene, items)) {
+  for (const auto& [id, found] : test::gpuNeighbours(scene, items)) {
     for (uint32_t j = 0; j < items.size(); ++j) {
       const double d2 = minImageDistance2(scene, items[id], items[j]);
       // Pairs within float rounding of h are decided differently by the float GPU test: not compared.
@@ -206,14 +167,8 @@ TEST(Periodic, MomentumAndParticlesConservedAcrossTheSeams) {
         {"min": [0.14,0.24,0], "max": [0.22,0.36,0.16], "velocity": [0.3, 0.1, 0.4]}]},
       "time": {"fps": 50, "start_frame": 1, "end_frame": 11}, "cache": {"attributes": ["id"]}})");
   sim::Simulator sim(scene);
-  auto momentum = [](const ParticleFrame& f) {
-    std::array<double, 3> m{};
-    for (const auto& v : f.velocity)
-      for (int a = 0; a < 3; ++a) m[a] += v[a];
-    return m;
-  };
   const ParticleFrame f0 = sim.cacheFrame();
-  const auto p0 = momentum(f0);
+  const auto p0 = test::momentum(f0);
   const size_t firstBlock = f0.size() / 2;  // ids [0, n/2): the block moving in -x
   double vmax = 0, yLow = 1, yHigh = 0;
   ParticleFrame f1;
@@ -238,7 +193,7 @@ TEST(Periodic, MomentumAndParticlesConservedAcrossTheSeams) {
   // Walls out of reach throughout (else their forces would change the momentum legitimately).
   EXPECT_GT(yLow, scene.kernelRadius());
   EXPECT_LT(yHigh, scene.domain.max[1] - scene.kernelRadius());
-  const auto p1 = momentum(f1);
+  const auto p1 = test::momentum(f1);
   for (int a = 0; a < 3; ++a) {
     // Float precision as in Physics.MomentumConservedWithoutGravityOrWalls.
     const double tolerance = 1e-4 * double(f1.size()) * vmax;

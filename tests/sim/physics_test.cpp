@@ -31,18 +31,12 @@ TEST(Physics, MomentumConservedWithoutGravityOrWalls) {
       "fluid": {"spacing": 0.02, "packing": 0.95, "blocks": [{"min": [0.5,0.5,0.5], "max": [0.7,0.7,0.7],
       "velocity": [0.3, -0.1, 0.2]}]}, "time": {"fps": 60, "start_frame": 1, "end_frame": 4}})");
   sim::Simulator sim(scene);
-  auto momentum = [](const ParticleFrame& f) {
-    std::array<double, 3> m{};
-    for (const auto& v : f.velocity)
-      for (int a = 0; a < 3; ++a) m[a] += v[a];
-    return m;
-  };
   const ParticleFrame f0 = sim.cacheFrame();
-  const auto p0 = momentum(f0);
+  const auto p0 = test::momentum(f0);
   double vmax = 0;
   while (sim.frame() < scene.time.endFrame) sim.advance();
   const ParticleFrame f1 = sim.cacheFrame();
-  const auto p1 = momentum(f1);
+  const auto p1 = test::momentum(f1);
   for (const auto& v : f1.velocity) vmax = std::max(vmax, double(std::hypot(v[0], v[1], v[2])));
   EXPECT_GT(vmax, 0.5) << "the block did not expand: the test would not test anything";
   for (int a = 0; a < 3; ++a) {

@@ -1,13 +1,28 @@
 #pragma once
-// Shared helpers of the simulation tests: a GL context per the SPHFX_GL backend, small scenes.
+// Shared helpers of the simulation tests: a GL context per the SPHFX_GL backend, small scenes, the GPU
+// neighbour search, total momentum.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
+#include <bit>
 #include <cstdlib>
 #include <memory>
+#include <set>
 #include <string>
+#include <utility>
+#include <vector>
 
+#include "bindings.h"
+#include "sphfx/core/gl.h"
 #include "sphfx/core/gl_context.h"
+#include "sphfx/core/gpu_buffer.h"
+#include "sphfx/core/particle_cache.h"
 #include "sphfx/core/scene.h"
+#include "sphfx/core/shader_program.h"
+#include "sphfx/sim/dispatch_gate.h"
+#include "sphfx/sim/gpu_types.h"
+#include "sphfx/sim/neighbor_grid.h"
 
 namespace sphfx::test {
 
@@ -19,6 +34,53 @@ inline std::unique_ptr<GLContext> makeContext() {
 /// A scene from JSON text with the given overrides.
 inline Scene sceneFromJson(const std::string& text) {
   return parseScene(schema::Json::parse(text), "test");
+}
+
+/// Sum of the particles' velocities (momentum / particle mass).
+inline std::array<double, 3> momentum(const ParticleFrame& f) {
+  std::array<double, 3> m{};
+  for (const auto& v : f.velocity)
+    for (int a = 0; a < 3; ++a) m[a] += v[a];
+  return m;
+}
+
+/// Items within h of each item through the GPU grid and sim_grid_neighbors.comp compiled with the scene's
+/// shader defines (the same sphRow/sphRowWrap/sphDelta as the solver passes). Per sorted slot: ids.
+inline std::vector<std::pair<uint32_t, std::set<uint32_t>>> gpuNeighbours(
+    const Scene& scene, const std::vector<std::array<float, 4>>& items) {
+  const uint32_t n = uint32_t(items.size()), maxN = 400;
+  sim::DispatchGate gate(n);
+  sim::NeighborGrid grid(gate, sim::GridSpec::forScene(scene), n);
+  gate.arm();
+  GpuBuffer pos(n * 16), vel(n * 16), sorted(n * 16), sortedVel(n * 16), out(size_t(n) * (maxN + 1) * 4);
+  pos.uploadVector(items);
+  vel.uploadVector(items);
+  grid.build(pos, vel, sorted, sortedVel);
+  const sim::SimParams params = sim::makeSimParams(scene, n, 0, gate.entries());
+  GpuBuffer ubo(sizeof params);
+  ubo.upload(&params, sizeof params);
+  ubo.bindUniform(SPHFX_UBO_SIM_PARAMS);
+  sorted.bindStorage(SPHFX_SSBO_SIM_POS);
+  grid.cellStart().bindStorage(SPHFX_SSBO_SIM_CELL_START);
+  out.bindStorage(SPHFX_SSBO_SIM_GRID_NEIGHBORS);
+  ShaderProgram program = ShaderProgram::compute("sim_grid_neighbors.comp", sim::simShaderDefines(scene));
+  program.use();
+  glUniform1ui(program.uniform("uMaxNeighbors"), maxN);
+  glMemoryBarrier(GL_ALL_BARRIER_BITS);
+  dispatchCompute1D(program, n, "neighbors");
+  glMemoryBarrier(GL_ALL_BARRIER_BITS);
+  const auto got = out.downloadVector<uint32_t>(size_t(n) * (maxN + 1));
+  const auto sortedItems = sorted.downloadVector<std::array<float, 4>>(n);
+  std::vector<std::pair<uint32_t, std::set<uint32_t>>> result;
+  for (uint32_t s = 0; s < n; ++s) {
+    const uint32_t count = got[size_t(s) * (maxN + 1)];
+    EXPECT_LE(count, maxN);
+    const auto begin = got.begin() + long(s) * (maxN + 1) + 1;
+    const std::set<uint32_t> found(begin, begin + std::min(count, maxN));
+    EXPECT_EQ(found.size(), count) << "duplicate neighbours (a cell visited twice across the seam)";
+    result.emplace_back(std::bit_cast<uint32_t>(sortedItems[s][3]), found);
+  }
+  return result;
 }
 
 }  // namespace sphfx::test
