@@ -4,7 +4,8 @@
 //   DFSPH_DIVERGENCE: residual D rho / Dt of the current velocities; increment residual * factor.
 //   otherwise: predicted density rho* = rho + dt D rho / Dt of v* = v + dt a, residual rho* - rho0;
 //   increment residual * factor / dt^2.
-// uWarm: the first pass of a solve: the increment is the last substep's stiffness total (warm start).
+// uWarm: the first pass of a solve: the increment is a share (DFSPH_WARM_SHARE) of the last substep's
+// stiffness total (warm start).
 #define DFSPH_LIST_READ
 #include "sph_params.glsl"
 #include "sph_kernels.glsl"
@@ -63,15 +64,15 @@ void main() {
     // Too few neighbours (free surface, splashes): the divergence estimate is meaningless there.
     float residual = f.y >= DFSPH_MIN_NEIGHBOURS ? densityChange(i) : 0.0;
     inc = projectedIncrement(residual, f.x, f.w, error);
-    // Warm start: the last substep's total. The first substep of a frame starts cold, so that a restart
-    // file (positions, velocities) resumes bit-identically.
-    if (uWarm != 0u) inc = stateSubsteps > 0u ? warm[floatBitsToUint(pos[i].w)] : 0.0;
+    // Warm start: a share of the last substep's total. The first substep of a frame starts cold, so
+    // that a restart file (positions, velocities) resumes bit-identically.
+    if (uWarm != 0u) inc = stateSubsteps > 0u ? DFSPH_WARM_SHARE * warm[floatBitsToUint(pos[i].w)] : 0.0;
 #else
     float dt = stateDt;
     float residual = densityPressure[i].x + dt * densityChange(i) - simFluid.x;
     inc = projectedIncrement(residual, f.x / (dt * dt), f.z, error);
-    // Warm start: the last substep's pressure total, carried in vel.w.
-    if (uWarm != 0u) inc = vel[i].w;
+    // Warm start: a share of the last substep's pressure total, carried in vel.w.
+    if (uWarm != 0u) inc = DFSPH_WARM_SHARE * vel[i].w;
 #endif
     increment[i] = inc;
   }

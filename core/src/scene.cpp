@@ -143,10 +143,10 @@ std::shared_ptr<const Object<SolverSettings>> solverSchema() {
                 "Kernel support radius h as a multiple of the particle spacing.")
         .number("max_density_error", &SolverSettings::maxDensityError, 0.001, "", Range{0, 0.1, true, false},
                 "DFSPH: average density error tolerance, as a fraction of rest density.")
-        .number("max_divergence_error", &SolverSettings::maxDivergenceError, 0.0001, "",
+        .number("max_divergence_error", &SolverSettings::maxDivergenceError, 0.001, "",
                 Range{0, 0.1, true, false},
                 "DFSPH: average divergence error tolerance: mean |D rho/Dt| / rest density times dt, the "
-                "relative density change per time step.")
+                "relative density change per time step (SPlisHSPlasH's default 0.1 %).")
         .integer("min_iterations", &SolverSettings::minIterations, 2, "", Range::closed(1, 1000),
                  "DFSPH: minimum pressure iterations per step.")
         .integer("max_iterations", &SolverSettings::maxIterations, 100, "", Range::closed(1, 100000),

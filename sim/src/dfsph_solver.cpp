@@ -87,6 +87,7 @@ DFSPHSolver::Solve DFSPHSolver::makeSolve(ShaderDefines d, bool divergence, doub
   d.set("DFSPH_GATE_WORD", gateWord);
   d.set("DFSPH_MIN_NEIGHBOURS", float(minNeighbours_));
   d.set("DFSPH_OMEGA", float(kJacobiOmega));
+  d.set("DFSPH_WARM_SHARE", float(divergence ? kDivergenceWarmShare : kDensityWarmShare));
   return {
       ShaderProgram::compute("sim_dfsph_begin.comp", d), ShaderProgram::compute("sim_dfsph_source.comp", d),
       ShaderProgram::compute("sim_dfsph_reduce.comp", d), ShaderProgram::compute("sim_dfsph_apply.comp", d)};
