@@ -2,10 +2,17 @@
 //
 // Determinism: every per-particle and per-block result is computed by one task from inputs visited in a
 // fixed order (particles sorted by cell then index; kernels gathered block by block in a fixed order), so
-// floating-point sums do not depend on how TBB splits the work.
+// floating-point sums do not depend on how TBB splits the work. OpenVDB's fast sweeping (the band's
+// distances) updates the voxels of one diagonal slice in parallel, each from neighbours in other slices.
 #include "sphfx/surfacing/anisotropic.h"
 
-#include <openvdb/tools/LevelSetRebuild.h>
+#include <openvdb/tools/ChangeBackground.h>
+#include <openvdb/tools/FastSweeping.h>
+#include <openvdb/tools/LevelSetTracker.h>
+#include <openvdb/tools/LevelSetUtil.h>
+#include <openvdb/tools/Morphology.h>
+#include <openvdb/tools/Prune.h>
+#include <openvdb/tree/LeafManager.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
@@ -185,30 +192,75 @@ AnisotropicKernel kernelFor(const std::vector<std::array<float, 3>>& p, const Ce
   return makeKernel(center, rot, axes, volume);
 }
 
-/// Accumulates the density of `k` into the 8^3 block whose first voxel is `origin`.
-void splat(const AnisotropicKernel& k, double voxel, const openvdb::Coord& origin, float* acc) {
-  const double e = k.extent / voxel;
-  const double cx = k.center[0] / voxel, cy = k.center[1] / voxel, cz = k.center[2] / voxel;
-  const int x0 = std::max(origin.x(), int(std::floor(cx - e))),
-            x1 = std::min(origin.x() + 7, int(std::ceil(cx + e)));
-  const int y0 = std::max(origin.y(), int(std::floor(cy - e))),
-            y1 = std::min(origin.y() + 7, int(std::ceil(cy + e)));
-  const int z0 = std::max(origin.z(), int(std::floor(cz - e))),
-            z1 = std::min(origin.z() + 7, int(std::ceil(cz + e)));
-  if (x0 > x1 || y0 > y1 || z0 > z1) return;
+/// A kernel prepared for splatting: its ellipsoid's half-extent along each axis, sqrt((M^-1)_aa) (m),
+/// widened so that every voxel where the float evaluation of q^2 is below 1 lies inside it.
+std::array<float, 3> axisExtents(const AnisotropicKernel& k) {
+  const double a = k.metric[0], b = k.metric[1], c = k.metric[2], d = k.metric[3], e = k.metric[4],
+               f = k.metric[5];
+  const double det = a * (d * f - e * e) - b * (b * f - c * e) + c * (b * e - c * d);
+  const double inv[3] = {(d * f - e * e) / det, (a * f - c * c) / det, (a * d - b * b) / det};
+  std::array<float, 3> ext{};
+  for (int i = 0; i < 3; ++i) {
+    // Never beyond the longest axis (the old box), never below zero for a degenerate metric.
+    const double x = det > 0 && inv[i] > 0 ? std::sqrt(inv[i]) * 1.001 + 1e-6 : double(k.extent);
+    ext[i] = float(std::min(x, double(k.extent)));
+  }
+  return ext;
+}
+
+/// A kernel in voxel units, ready to splat: centre, metric times voxel^2, weight, and the box of voxels
+/// (inclusive) outside which q^2 is never below 1.
+struct Splat {
+  float cx, cy, cz;
+  float mxx, mxy, mxz, myy, myz, mzz;
+  float weight;
+  std::array<int, 3> lo, hi;
+};
+
+Splat prepareSplat(const AnisotropicKernel& k, double voxel) {
+  Splat s;
+  s.cx = float(k.center[0] / voxel);
+  s.cy = float(k.center[1] / voxel);
+  s.cz = float(k.center[2] / voxel);
   const float v2 = float(voxel * voxel);
-  const float mxx = k.metric[0] * v2, mxy = k.metric[1] * v2, mxz = k.metric[2] * v2;
-  const float myy = k.metric[3] * v2, myz = k.metric[4] * v2, mzz = k.metric[5] * v2;
+  s.mxx = k.metric[0] * v2, s.mxy = k.metric[1] * v2, s.mxz = k.metric[2] * v2;
+  s.myy = k.metric[3] * v2, s.myz = k.metric[4] * v2, s.mzz = k.metric[5] * v2;
+  s.weight = k.weight;
+  const auto ext = axisExtents(k);
+  const float c[3] = {s.cx, s.cy, s.cz};
+  for (int i = 0; i < 3; ++i) {
+    s.lo[i] = int(std::floor(c[i] - ext[i] / voxel));
+    s.hi[i] = int(std::ceil(c[i] + ext[i] / voxel));
+  }
+  return s;
+}
+
+/// Accumulates the density of `k` into the 8^3 block whose first voxel is `origin`. Each row along z
+/// visits only the voxels where the quadratic q^2(z) can be below 1 (its roots widened by one voxel,
+/// then the same float test as for every voxel), so the sums are those of visiting the whole box.
+void splat(const Splat& k, const openvdb::Coord& origin, float* acc) {
+  const int x0 = std::max(origin.x(), k.lo[0]), x1 = std::min(origin.x() + 7, k.hi[0]);
+  const int y0 = std::max(origin.y(), k.lo[1]), y1 = std::min(origin.y() + 7, k.hi[1]);
+  const int z0 = std::max(origin.z(), k.lo[2]), z1 = std::min(origin.z() + 7, k.hi[2]);
+  if (x0 > x1 || y0 > y1 || z0 > z1) return;
+  const double inv2mzz = 1.0 / (2.0 * k.mzz);
   for (int x = x0; x <= x1; ++x) {
-    const float dx = float(x - cx);
+    const float dx = float(x) - k.cx;
     for (int y = y0; y <= y1; ++y) {
-      const float dy = float(y - cy);
-      const float base = mxx * dx * dx + 2 * mxy * dx * dy + myy * dy * dy;
-      const float bx = 2 * (mxz * dx + myz * dy);
+      const float dy = float(y) - k.cy;
+      const float base = k.mxx * dx * dx + 2 * k.mxy * dx * dy + k.myy * dy * dy;
+      const float bx = 2 * (k.mxz * dx + k.myz * dy);
+      // q2(z) = base + bx dz + mzz dz^2 < 1 between the roots, widened by a voxel against rounding.
+      // The row's smallest q2 is 1 - disc / (4 mzz): skip the row when that is clearly above 1.
+      const double disc = double(bx) * bx - 4.0 * k.mzz * (double(base) - 1.0);
+      if (-disc * inv2mzz > 2e-3 * (1.0 + std::abs(double(base)))) continue;
+      const double mid = k.cz - bx * inv2mzz, half = std::sqrt(std::max(disc, 0.0)) * inv2mzz;
+      const int za = std::max(z0, int(std::floor(mid - half)) - 1),
+                zb = std::min(z1, int(std::ceil(mid + half)) + 1);
       float* row = acc + ((x - origin.x()) << 6) + ((y - origin.y()) << 3) - origin.z();
-      for (int z = z0; z <= z1; ++z) {
-        const float dz = float(z - cz);
-        const float q2 = base + dz * (bx + mzz * dz);
+      for (int z = za; z <= zb; ++z) {
+        const float dz = float(z) - k.cz;
+        const float q2 = base + dz * (bx + k.mzz * dz);
         if (q2 >= 1.f) continue;
         const float t = 1.f - q2;
         row[z] += k.weight * t * t * t;
@@ -232,42 +284,63 @@ std::vector<AnisotropicKernel> computeAnisotropicKernels(const std::vector<std::
   return kernels;
 }
 
-openvdb::FloatGrid::Ptr rasterizeAnisotropic(const std::vector<AnisotropicKernel>& kernels, double voxelSize,
-                                             double halfWidth) {
-  using LeafT = openvdb::FloatTree::LeafNodeType;
-  constexpr float kIso = 0.5f;  // half the density of a full neighbourhood
-  auto transform = openvdb::math::Transform::createLinearTransform(voxelSize);
-  if (kernels.empty()) return openvdb::createLevelSet<openvdb::FloatGrid>(voxelSize, halfWidth);
+namespace {
 
-  // Kernels binned by the 8^3 block holding their centre, in a fixed order.
+constexpr float kIso = 0.5f;  // half the density of a full neighbourhood
+
+/// iso - density on the 8^3 blocks that some kernel's box touches (all voxels active), background iso.
+openvdb::FloatGrid::Ptr densityField(const std::vector<AnisotropicKernel>& kernels, double voxelSize) {
+  using LeafT = openvdb::FloatTree::LeafNodeType;
+  // Kernels binned by the 8^3 block holding their centre, in a fixed order (block, then index), each
+  // bin with the union of its kernels' voxel boxes.
   auto blockOf = [&](const std::array<float, 3>& c) {
     return openvdb::Coord(int(std::floor(c[0] / voxelSize + 0.5)), int(std::floor(c[1] / voxelSize + 0.5)),
                           int(std::floor(c[2] / voxelSize + 0.5))) >>
            3;
   };
   std::vector<std::pair<uint64_t, uint32_t>> keyed(kernels.size());
-  float maxExtent = 0;
-  for (size_t i = 0; i < kernels.size(); ++i) {
-    const auto b = blockOf(kernels[i].center);
-    keyed[i] = {packKey(b.x(), b.y(), b.z()), uint32_t(i)};
-    maxExtent = std::max(maxExtent, kernels[i].extent);
-  }
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, kernels.size(), 4096), [&](const auto& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      const auto b = blockOf(kernels[i].center);
+      keyed[i] = {packKey(b.x(), b.y(), b.z()), uint32_t(i)};
+    }
+  });
   tbb::parallel_sort(keyed.begin(), keyed.end());
-  std::unordered_map<uint64_t, std::pair<size_t, size_t>> bins;
+  std::vector<Splat> splats(kernels.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, kernels.size(), 4096), [&](const auto& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i)
+      splats[i] = prepareSplat(kernels[keyed[i].second], voxelSize);
+  });
+  struct Bin {
+    size_t begin, end;
+    openvdb::CoordBBox box;  // voxels its kernels can reach
+  };
+  std::unordered_map<uint64_t, Bin> bins;
+  std::vector<const Bin*> binList;
+  float maxExtent = 0;
   for (size_t i = 0; i < keyed.size(); ++i) {
-    if (i == 0 || keyed[i].first != keyed[i - 1].first) bins[keyed[i].first] = {i, i};
-    bins[keyed[i].first].second = i + 1;
+    const Splat& k = splats[i];
+    const openvdb::CoordBBox box(openvdb::Coord(k.lo[0], k.lo[1], k.lo[2]),
+                                 openvdb::Coord(k.hi[0], k.hi[1], k.hi[2]));
+    if (i == 0 || keyed[i].first != keyed[i - 1].first) {
+      binList.push_back(&(bins[keyed[i].first] = {i, i, box}));
+    }
+    Bin& bin = bins[keyed[i].first];
+    bin.end = i + 1;
+    bin.box.expand(box);
+    maxExtent = std::max(maxExtent, kernels[keyed[i].second].extent);
   }
-  // Blocks a kernel can reach: its own block dilated by `reach` blocks.
+  // Bins whose kernels can reach a block: within `reach` blocks of it.
   const int reach = int(std::ceil((maxExtent / voxelSize + 1) / 8.0));
+  // The blocks some kernel's box touches.
   std::vector<openvdb::Coord> blocks;
-  for (const auto& [k, range] : bins) {
-    const auto b = blockOf(kernels[keyed[range.first].second].center);
-    for (int dx = -reach; dx <= reach; ++dx)
-      for (int dy = -reach; dy <= reach; ++dy)
-        for (int dz = -reach; dz <= reach; ++dz) blocks.push_back(b.offsetBy(dx, dy, dz));
+  for (const Bin* bin : binList) {
+    const openvdb::Coord lo = bin->box.min() >> 3, hi = bin->box.max() >> 3;
+    for (int x = lo.x(); x <= hi.x(); ++x)
+      for (int y = lo.y(); y <= hi.y(); ++y)
+        for (int z = lo.z(); z <= hi.z(); ++z) blocks.emplace_back(x, y, z);
   }
-  std::sort(blocks.begin(), blocks.end());
+  tbb::parallel_sort(blocks.begin(), blocks.end());
   blocks.erase(std::unique(blocks.begin(), blocks.end()), blocks.end());
 
   std::vector<std::unique_ptr<LeafT>> leaves(blocks.size());
@@ -275,14 +348,14 @@ openvdb::FloatGrid::Ptr rasterizeAnisotropic(const std::vector<AnisotropicKernel
     std::array<float, 512> acc;
     for (size_t bi = r.begin(); bi != r.end(); ++bi) {
       const openvdb::Coord b = blocks[bi], origin = b << 3;
+      const openvdb::CoordBBox blockBox(origin, origin.offsetBy(7));
       acc.fill(0.f);
       for (int dx = -reach; dx <= reach; ++dx)
         for (int dy = -reach; dy <= reach; ++dy)
           for (int dz = -reach; dz <= reach; ++dz) {
             auto it = bins.find(packKey(b.x() + dx, b.y() + dy, b.z() + dz));
-            if (it == bins.end()) continue;
-            for (size_t k = it->second.first; k < it->second.second; ++k)
-              splat(kernels[keyed[k].second], voxelSize, origin, acc.data());
+            if (it == bins.end() || !it->second.box.hasOverlap(blockBox)) continue;
+            for (size_t k = it->second.begin; k < it->second.end; ++k) splat(splats[k], origin, acc.data());
           }
       if (*std::max_element(acc.begin(), acc.end()) == 0.f) continue;
       auto leaf = std::make_unique<LeafT>(origin, kIso, true);
@@ -292,12 +365,48 @@ openvdb::FloatGrid::Ptr rasterizeAnisotropic(const std::vector<AnisotropicKernel
   });
   // The density field, negated so that inside is negative, with "empty" (outside) as background.
   auto field = openvdb::FloatGrid::create(kIso);
-  field->setTransform(transform);
+  field->setTransform(openvdb::math::Transform::createLinearTransform(voxelSize));
   for (auto& leaf : leaves)
     if (leaf) field->tree().addLeaf(leaf.release());
-  auto sdf =
-      openvdb::tools::levelSetRebuild(*field, 0.f, float(halfWidth), float(halfWidth), transform.get());
+  return field;
+}
+
+}  // namespace
+
+openvdb::FloatGrid::Ptr rasterizeAnisotropic(const std::vector<AnisotropicKernel>& kernels, double voxelSize,
+                                             double halfWidth,
+                                             const std::function<void(const char*)>& stage) {
+  auto lap = [&](const char* name) {
+    if (stage) stage(name);
+  };
+  using LeafT = openvdb::FloatTree::LeafNodeType;
+  if (kernels.empty()) return openvdb::createLevelSet<openvdb::FloatGrid>(voxelSize, halfWidth);
+
+  const auto field = densityField(kernels, voxelSize);
+  lap("density");
+  // Only the voxels within halfWidth + 1 (L-infinity) of a crossing of the 1/2 density (a voxel whose
+  // face neighbour is on the other side) are needed; voxels of the band beyond the evaluated blocks
+  // keep the background (zero density, outside).
+  auto band = openvdb::tools::extractIsosurfaceMask(field->tree(), 0.f);
+  openvdb::tools::dilateActiveValues(*band, int(std::ceil(halfWidth)) + 1,
+                                     openvdb::tools::NN_FACE_EDGE_VERTEX, openvdb::tools::IGNORE_TILES);
+  // (Not Tree::topologyIntersection: it replaces the interior's leaves by background, i.e. outside.)
+  openvdb::tree::LeafManager<openvdb::FloatTree>(field->tree()).foreach ([&](LeafT& leaf, size_t) {
+    const auto* keep = band->probeConstLeaf(leaf.origin());
+    leaf.setValueMask(keep ? keep->getValueMask() : LeafT::NodeMaskType());
+  });
+  field->tree().topologyUnion(*band);
+  openvdb::tools::pruneLevelSet(field->tree());  // the interior's inactive leaves to inside tiles
+  lap("band");
+  // Signed distances in the band: first-order distances to the crossing at the voxels next to it (linear
+  // interpolation of the density along each axis), then the Eikonal equation by fast sweeping.
+  openvdb::FloatGrid::Ptr sdf = openvdb::tools::sdfToSdf(*field, 0.f, 1);
+  lap("sweep");
+  // The narrow band: inactive values +-halfWidth voxels, active voxels beyond it switched off, pruned.
+  openvdb::tools::changeLevelSetBackground(sdf->tree(), float(halfWidth * voxelSize));
   sdf->setGridClass(openvdb::GRID_LEVEL_SET);
+  openvdb::tools::LevelSetTracker<openvdb::FloatGrid>(*sdf).prune();
+  lap("trim");
   return sdf;
 }
 

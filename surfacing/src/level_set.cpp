@@ -11,6 +11,7 @@
 #include <chrono>
 #include <cmath>
 #include <mutex>
+#include <string>
 
 #include "sphfx/core/error.h"
 #include "sphfx/surfacing/anisotropic.h"
@@ -44,7 +45,7 @@ class ParticleList {
 class StageTimer {
  public:
   explicit StageTimer(LevelSetReport* report) : report_(report) {}
-  void lap(const char* name) {
+  void lap(const std::string& name) {
     const auto now = std::chrono::steady_clock::now();
     if (report_) report_->stageSeconds.emplace_back(name, std::chrono::duration<double>(now - last_).count());
     last_ = now;
@@ -88,13 +89,16 @@ openvdb::FloatGrid::Ptr rasterizeSpheres(const std::vector<std::array<float, 3>>
   return grid;
 }
 
+/// Yu-Turk kernels, their density and its narrow band, each step timed as "rasterize_<step>".
 openvdb::FloatGrid::Ptr rasterizeYuTurk(const std::vector<std::array<float, 3>>& p,
-                                        const SurfaceParams& params, double halfWidth) {
+                                        const SurfaceParams& params, double halfWidth, StageTimer& timer) {
   AnisotropicSettings settings;
   settings.spacing = params.particleSpacing > 0 ? params.particleSpacing : params.radius;
   settings.support = 2 * params.radius;
   const auto kernels = computeAnisotropicKernels(p, settings);
-  return rasterizeAnisotropic(kernels, params.voxelSize, halfWidth);
+  timer.lap("rasterize_kernels");
+  return rasterizeAnisotropic(kernels, params.voxelSize, halfWidth,
+                              [&](const char* step) { timer.lap(fmt::format("rasterize_{}", step)); });
 }
 
 /// Deactivates (to +-background) the active voxels farther than `width` voxels (L-infinity) from a
@@ -206,11 +210,11 @@ openvdb::FloatGrid::Ptr buildLevelSet(const std::vector<std::array<float, 3>>& p
         restrictToBand(*grid, int(std::ceil(params.halfWidth)));
         break;
       case SurfaceMethod::Anisotropic:
-        grid = rasterizeYuTurk(positions, params, params.halfWidth);
+        grid = rasterizeYuTurk(positions, params, params.halfWidth, timer);
         break;
     }
     grid->setGridClass(openvdb::GRID_LEVEL_SET);
-    timer.lap("rasterize");
+    if (params.method != SurfaceMethod::Anisotropic) timer.lap("rasterize");
     smoothAndOffset(*grid, params.smoothIterations, params.calibrate ? params.surfaceOffset : 0.0, timer);
     openvdb::tools::pruneLevelSet(grid->tree());
     timer.lap("prune");

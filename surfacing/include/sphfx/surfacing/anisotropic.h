@@ -8,6 +8,7 @@
 #include <openvdb/openvdb.h>
 
 #include <array>
+#include <functional>
 #include <vector>
 
 namespace sphfx::surfacing {
@@ -36,7 +37,9 @@ std::vector<AnisotropicKernel> computeAnisotropicKernels(const std::vector<std::
 
 /// The narrow-band level set (half width `halfWidth` voxels) of the iso-surface where the kernels'
 /// summed density is 1/2 (inside: denser), sampled on voxels of `voxelSize`. Deterministic.
+/// `stage`, if set, is called with each step's name when that step ends (for timings).
 openvdb::FloatGrid::Ptr rasterizeAnisotropic(const std::vector<AnisotropicKernel>& kernels, double voxelSize,
-                                             double halfWidth);
+                                             double halfWidth,
+                                             const std::function<void(const char*)>& stage = {});
 
 }  // namespace sphfx::surfacing
