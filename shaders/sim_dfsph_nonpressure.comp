@@ -1,6 +1,6 @@
 // DFSPH non-pressure accelerations: gravity and viscosity (the WCSPH force pass's models without its
-// pressure term), evaluated on the divergence-free velocities. Reduces max |v|^2 for the flow-speed CFL
-// step; the acceleration bound of WCSPH does not apply (stateMaxAccel2 stays 0).
+// pressure term), evaluated on the divergence-free velocities. Reduces max |v|^2 and max |a|^2 of these
+// accelerations for the displacement-bounded CFL step (sim_timestep.comp).
 #define DFSPH_LIST_READ
 #include "sph_params.glsl"
 #include "sph_kernels.glsl"
@@ -15,7 +15,7 @@ layout(std430, binding = SPHFX_SSBO_SIM_BOUNDARY_VEL) readonly buffer SimBoundar
 layout(std430, binding = SPHFX_SSBO_SIM_BOUNDARY_CELL_START) readonly buffer SimBoundaryStart {
   uint bStart[];
 };
-shared uint groupMaxSpeed2;
+shared uint groupMaxSpeed2, groupMaxAccel2;
 
 #if defined(VISCOSITY_ARTIFICIAL)
 // Monaghan's viscosity as in sim_force.comp: nu (v_ij . x_ij) / (|x_ij|^2 + 0.01 h^2) when approaching.
@@ -71,14 +71,21 @@ vec3 viscosity(uint i, vec3 xi, vec3 vi, float rhoi) {
 void main() {
   uint i = sphfxGlobalIndex();
   bool live = i < simCounts.x;
-  if (gl_LocalInvocationIndex == 0u) groupMaxSpeed2 = 0u;
+  if (gl_LocalInvocationIndex == 0u) {
+    groupMaxSpeed2 = 0u;
+    groupMaxAccel2 = 0u;
+  }
   barrier();
   if (live) {
     vec3 xi = pos[i].xyz, vi = vel[i].xyz;
     vec3 a = simGravity.xyz + viscosity(i, xi, vi, densityPressure[i].x);
     accel[i] = vec4(a, 0.0);
     atomicMax(groupMaxSpeed2, floatBitsToUint(dot(vi, vi)));
+    atomicMax(groupMaxAccel2, floatBitsToUint(dot(a, a)));
   }
   barrier();
-  if (gl_LocalInvocationIndex == 0u) atomicMax(stateMaxSpeed2, groupMaxSpeed2);
+  if (gl_LocalInvocationIndex == 0u) {
+    atomicMax(stateMaxSpeed2, groupMaxSpeed2);
+    atomicMax(stateMaxAccel2, groupMaxAccel2);
+  }
 }
