@@ -173,12 +173,13 @@ std::shared_ptr<const Object<TimeSettings>> timeSchema() {
                 "Time step control: fixed dt, or CFL-adaptive between dt_min and dt_max.")
         .number("dt", &TimeSettings::dt, 0.0007, "s", Range{0, 1, true, false}, "Fixed mode: the time step.")
         .number("cfl_factor", &TimeSettings::cflFactor, 0.4, "", Range{0, 10, true, false},
-                "CFL mode: factor on the acoustic limit h / (c + |v|max) (WCSPH), or on the flow-speed limit "
-                "spacing / |v|max (DFSPH, Bender & Koschier 2015).")
+                "CFL mode: factor on the acoustic limit h / (c + |v|max) (WCSPH), or on the displacement per "
+                "step, |v|max dt + |a|max dt^2 <= factor * spacing with a the non-pressure acceleration "
+                "(DFSPH, Bender & Koschier 2015).")
         .number("viscous_factor", &TimeSettings::viscousFactor, 0.125, "", Range{0, 10, true, false},
                 "CFL mode: factor on the viscous limit h^2 / nu.")
         .number("force_factor", &TimeSettings::forceFactor, 0.25, "", Range{0, 10, true, false},
-                "CFL mode: factor on the force limit sqrt(h / |a|max).")
+                "CFL mode: factor on the force limit sqrt(h / |a|max) (WCSPH).")
         .number("dt_min", &TimeSettings::dtMin, 1e-6, "s", Range{0, 1, true, false},
                 "CFL mode: smallest step; needing less stops the run with an error.")
         .number("dt_max", &TimeSettings::dtMax, 0.005, "s", Range{0, 1, true, false},
