@@ -63,9 +63,10 @@ void main() {
   stateMaxDensity = 0u;
   if (simStep.w == 0.0) dt = min(dt, simLimits.y);
   // Land on the frame: the last step takes what remains; when less than two steps remain, split the
-  // rest in halves rather than leave a sliver.
+  // rest in halves rather than leave a sliver. dt is a float: a dt_max equal to the frame time (e.g.
+  // 0.005 s at 200 fps) can round just below the double remainder, and must not split the frame in two.
   double remaining = stateFrameEnd - stateTime;
-  bool last = double(dt) >= remaining;
+  bool last = double(dt) >= remaining * (1.0lf - 1e-6lf);
   if (last) dt = float(remaining);
   else if (2.0lf * double(dt) > remaining) dt = float(remaining * 0.5lf);
   stateDt = dt;
