@@ -105,9 +105,6 @@ TEST_F(DFSPH, DivergenceSolveMeetsItsTolerance) {
   }
 }
 
-// Dam break (a = 0.2, n^2 = 2) at frame-sized steps: dt reaches 0.014 s or more (the CFL limit of the
-// still column), the run stays healthy, and the surge front follows Martin & Moyce within the WCSPH
-// test's tolerance (physics_test.cpp: mean |Z - Z_ref| < 0.35, front = largest x + half a spacing).
 // From rest the CFL condition on |v| alone allows any step; the step's displacement |v| dt + |a| dt^2 must
 // stay within cfl * spacing (docs/dfsph.md, "Time step from rest"), so the first step of a resting column
 // under gravity is sqrt(cfl * d / g) however large dt_max is, and no later step of the frame is larger.
@@ -116,11 +113,14 @@ TEST_F(DFSPH, FirstStepFromRestIsBoundedByTheFallDisplacement) {
                                            "time.dt_max=0.1", "time.cfl_factor=0.4"});
   Simulator sim(s);
   const FrameStats f = sim.advance();
-  const double bound = std::sqrt(0.4 * s.fluid.spacing / 9.81);  // 0.0286 s
+  const double bound = std::sqrt(s.time.cflFactor * s.fluid.spacing / -s.gravity[1]);  // 0.0286 s
   EXPECT_NEAR(f.dtMax, bound, 1e-3 * bound) << "the first step is the largest one from rest";
   EXPECT_GT(f.substeps, 3) << "a 0.1 s frame in steps of at most " << bound << " s";
 }
 
+// Dam break (a = 0.2, n^2 = 2) at frame-sized steps: dt reaches 0.014 s or more (the CFL limit of the
+// still column), the run stays healthy, and the surge front follows Martin & Moyce within the WCSPH
+// test's tolerance (physics_test.cpp: mean |Z - Z_ref| < 0.35, front = largest x + half a spacing).
 TEST_F(DFSPH, DamBreakAtLargeTimeStepMatchesMartinMoyce) {
   const Scene s = scene("dam_break.json", {"fluid.spacing=0.02", "time.fps=60", "time.end_frame=22",
                                            "time.dt_max=0.02", "time.cfl_factor=0.4"});
