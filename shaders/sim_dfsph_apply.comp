@@ -2,8 +2,9 @@
 // eq. 10/12 in dt-free form): dv_i = -sum_j m (k_i + k_j) grad W_ij - sum_b psi_b k_i grad W_ib, and adds
 // k_i to the particle's total (the warm start of the next step).
 //   DFSPH_DIVERGENCE: corrects the velocities; the total goes to the per-id warm-start buffer.
-//   otherwise: adds to the acceleration (v* = v + dt a); the total, p / rho^2, goes to vel.w (carried
-//   by the state between steps); the cache's pressure adds the divergence solve's share.
+//   otherwise: corrects the predicted velocities v* (in vel since the warm pass, sim_dfsph_source.comp)
+//   by dt dv; the total, p / rho^2, goes to vel.w (carried by the state between steps); the cache's
+//   pressure adds the divergence solve's share.
 #define DFSPH_LIST_READ
 #include "sph_params.glsl"
 #include "sph_kernels.glsl"
@@ -15,7 +16,6 @@ layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_INCREMENT) readonly buffer DfsphIn
 #if defined(DFSPH_DIVERGENCE)
 layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_WARM) writeonly buffer DfsphWarm { float warm[]; };
 #else
-layout(std430, binding = SPHFX_SSBO_SIM_ACCEL) buffer SimAccel { vec4 accel[]; };
 layout(std430, binding = SPHFX_SSBO_SIM_DENSITY) buffer SimDensity { vec2 densityPressure[]; };
 #endif
 
@@ -41,10 +41,9 @@ void main() {
   dfsph[i].w = total;
   warm[floatBitsToUint(pos[i].w)] = total;
 #else
-  accel[i] = vec4(accel[i].xyz + dv, 0.0);
   float total = dfsph[i].z + ki;
   dfsph[i].z = total;
-  vel[i].w = total;
+  vel[i] = vec4(vel[i].xyz + stateDt * dv, total);
   // The cache's pressure (p / rho^2): both solves support the fluid, the divergence solve by a velocity
   // impulse K per step, i.e. the pressure acceleration K / dt.
   densityPressure[i].y = total + dfsph[i].w / stateDt;

@@ -2,35 +2,34 @@
 // particle and its stiffness increment, and per work group the residual sum (a fixed-order tree, so the
 // average is deterministic).
 //   DFSPH_DIVERGENCE: residual D rho / Dt of the current velocities; increment residual * factor.
-//   otherwise: predicted density rho* = rho + dt D rho / Dt of v* = v + dt a, residual rho* - rho0;
-//   increment residual * factor / dt^2.
+//   otherwise: predicted density rho* = rho + dt D rho / Dt of the predicted velocities v*, residual
+//   rho* - rho0; increment residual * factor / dt^2.
 // uWarm: the first pass of a solve: the increment is a share (DFSPH_WARM_SHARE) of the last substep's
-// stiffness total (warm start).
+// stiffness total (warm start). The density solve's warm pass also predicts v* = v + dt a into vel and
+// zeroes a, so that its iterations read one velocity per neighbour, not a velocity and an acceleration
+// (sim_integrate.comp's v + dt a is then v*).
 #define DFSPH_LIST_READ
 #include "sph_params.glsl"
 #include "sph_kernels.glsl"
 #include "sph_dfsph.glsl"
 layout(local_size_x = SIM_WG) in;
 layout(std430, binding = SPHFX_SSBO_SIM_POS) readonly buffer SimPos { vec4 pos[]; };
+#if defined(DFSPH_DIVERGENCE)
 layout(std430, binding = SPHFX_SSBO_SIM_VEL) readonly buffer SimVel { vec4 vel[]; };
+#else
+layout(std430, binding = SPHFX_SSBO_SIM_VEL) buffer SimVel { vec4 vel[]; };
+layout(std430, binding = SPHFX_SSBO_SIM_ACCEL) buffer SimAccel { vec4 accel[]; };
+#endif
 layout(std430, binding = SPHFX_SSBO_SIM_DENSITY) readonly buffer SimDensity { vec2 densityPressure[]; };
 layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_INCREMENT) writeonly buffer DfsphIncrement { float increment[]; };
 layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_PARTIAL) writeonly buffer DfsphPartial { float partial[]; };
 #if defined(DFSPH_DIVERGENCE)
 layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_WARM) readonly buffer DfsphWarm { float warm[]; };
-#else
-layout(std430, binding = SPHFX_SSBO_SIM_ACCEL) readonly buffer SimAccel { vec4 accel[]; };
 #endif
 uniform uint uWarm;
 shared float groupSum[SIM_WG];
 
-vec3 velocity(uint j) {
-#if defined(DFSPH_DIVERGENCE)
-  return vel[j].xyz;
-#else
-  return vel[j].xyz + stateDt * accel[j].xyz;
-#endif
-}
+vec3 velocity(uint j) { return vel[j].xyz; }
 
 // D rho_i / Dt = sum_j m (v_i - v_j) . grad W_ij + sum_b psi_b (v_i - v_b) . grad W_ib, from the list.
 float densityChange(uint i) {
@@ -61,18 +60,29 @@ void main() {
     vec4 f = dfsph[i];
     float inc;
 #if defined(DFSPH_DIVERGENCE)
-    // Too few neighbours (free surface, splashes): the divergence estimate is meaningless there.
-    float residual = f.y >= DFSPH_MIN_NEIGHBOURS ? densityChange(i) : 0.0;
-    inc = projectedIncrement(residual, f.x, f.w, error);
-    // Warm start: a share of the last substep's total. The first substep of a frame starts cold, so
-    // that a restart file (positions, velocities) resumes bit-identically.
-    if (uWarm != 0u) inc = stateSubsteps > 0u ? DFSPH_WARM_SHARE * warm[floatBitsToUint(pos[i].w)] : 0.0;
+    // Warm start (no residual: the warm pass is not reduced): a share of the last substep's total. The
+    // first substep of a frame starts cold, so that a restart file (positions, velocities) resumes
+    // bit-identically.
+    if (uWarm != 0u) {
+      inc = stateSubsteps > 0u ? DFSPH_WARM_SHARE * warm[floatBitsToUint(pos[i].w)] : 0.0;
+    } else {
+      // Too few neighbours (free surface, splashes): the divergence estimate is meaningless there.
+      float residual = f.y >= DFSPH_MIN_NEIGHBOURS ? densityChange(i) : 0.0;
+      inc = projectedIncrement(residual, f.x, f.w, error);
+    }
 #else
-    float dt = stateDt;
-    float residual = densityPressure[i].x + dt * densityChange(i) - simFluid.x;
-    inc = projectedIncrement(residual, f.x / (dt * dt), f.z, error);
-    // Warm start: a share of the last substep's pressure total, carried in vel.w.
-    if (uWarm != 0u) inc = DFSPH_WARM_SHARE * vel[i].w;
+    // Warm start: a share of the last substep's pressure total, carried in vel.w; v* = v + dt a (only
+    // particle i is touched: the warm pass reads no neighbour).
+    if (uWarm != 0u) {
+      vec4 v = vel[i];
+      vel[i] = vec4(v.xyz + stateDt * accel[i].xyz, v.w);
+      accel[i] = vec4(0.0);
+      inc = DFSPH_WARM_SHARE * v.w;
+    } else {
+      float dt = stateDt;
+      float residual = densityPressure[i].x + dt * densityChange(i) - simFluid.x;
+      inc = projectedIncrement(residual, f.x / (dt * dt), f.z, error);
+    }
 #endif
     increment[i] = inc;
   }

@@ -150,12 +150,18 @@ std::shared_ptr<const Object<SolverSettings>> solverSchema() {
         .integer("min_iterations", &SolverSettings::minIterations, 2, "", Range::closed(1, 1000),
                  "DFSPH: minimum pressure iterations per step.")
         .integer("max_iterations", &SolverSettings::maxIterations, 100, "", Range::closed(1, 100000),
-                 "DFSPH: maximum pressure iterations per step.")
+                 "DFSPH: maximum pressure iterations per step (each solve).")
+        .integer("min_divergence_iterations", &SolverSettings::minDivergenceIterations, 1, "",
+                 Range::closed(1, 1000),
+                 "DFSPH: minimum divergence iterations per step (SPlisHSPlasH's 1; the warm start comes "
+                 "first).")
         .check([](const SolverSettings& s, const Json&, const std::string& path) {
-          if (s.minIterations > s.maxIterations)
+          const int least = std::max(s.minIterations, s.minDivergenceIterations);
+          if (least > s.maxIterations)
             throw SchemaError(schema::childPath(path, "max_iterations"),
-                              fmt::format("expected max_iterations >= min_iterations ({}), got {}",
-                                          s.minIterations, s.maxIterations));
+                              fmt::format("expected max_iterations >= min_iterations and "
+                                          "min_divergence_iterations ({}), got {}",
+                                          least, s.maxIterations));
         });
   });
 }

@@ -51,6 +51,7 @@ DFSPHSolver::DFSPHSolver(const Scene& scene, const DispatchGate& gate, const Sha
       particles_(particles),
       groups_(std::max<uint32_t>(1, (particles + kSimWorkGroup - 1) / kSimWorkGroup)),
       minIterations_(scene.solver.minIterations),
+      minDivergenceIterations_(scene.solver.minDivergenceIterations),
       maxIterations_(scene.solver.maxIterations),
       // A particle with fewer than 60 % of a full neighbourhood is at the free surface; its divergence
       // estimate is skipped (SPlisHSPlasH uses 20 of 32 at the same support).
@@ -81,7 +82,7 @@ DFSPHSolver::Solve DFSPHSolver::makeSolve(ShaderDefines d, bool divergence, doub
   if (divergence) d.set("DFSPH_DIVERGENCE");
   d.set("DFSPH_SOLVE", divergence ? 1 : 0);
   d.set("DFSPH_TOLERANCE", float(tolerance));
-  d.set("DFSPH_MIN_ITER", minIterations_);
+  d.set("DFSPH_MIN_ITER", divergence ? minDivergenceIterations_ : minIterations_);
   d.set("DFSPH_MAX_ITER", maxIterations_);
   d.set("DFSPH_GROUPS", groups_);
   d.set("DFSPH_GATE_WORD", gateWord);

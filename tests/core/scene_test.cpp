@@ -30,6 +30,7 @@ std::string errorOf(const Json& raw) {
 TEST(Scene, DefaultsFillEverything) {
   const Scene s = parseScene(minimal(), "x.json");
   EXPECT_EQ(s.solver.method, Solver::WCSPH);
+  EXPECT_EQ(s.solver.minDivergenceIterations, 1);  // SPlisHSPlasH's divergence solve
   EXPECT_EQ(s.time.mode, TimeStepMode::Cfl);
   EXPECT_DOUBLE_EQ(s.fluid.restDensity, 1000);
   EXPECT_DOUBLE_EQ(s.gravity[1], -9.81);
@@ -38,8 +39,9 @@ TEST(Scene, DefaultsFillEverything) {
 }
 
 TEST(Scene, ShippedAndTestScenesRoundTrip) {
-  for (const std::string file : {"/scenes/dam_break.json", "/scenes/hydrostatic.json",
-                                 "/scenes/box_emerge.json", "/tests/scenes/good/everything.json"}) {
+  for (const std::string file :
+       {"/scenes/dam_break.json", "/scenes/hydrostatic.json", "/scenes/box_emerge.json",
+        "/scenes/dam_break_splishsplash.json", "/tests/scenes/good/everything.json"}) {
     SCOPED_TRACE(file);
     const Scene a = loadScene(kDir + file);
     const Json resolved = sceneToJson(a);
@@ -51,6 +53,8 @@ TEST(Scene, ShippedAndTestScenesRoundTrip) {
 TEST(Scene, EverythingSceneValuesArrive) {
   const Scene s = loadScene(kDir + "/tests/scenes/good/everything.json");
   EXPECT_EQ(s.solver.method, Solver::DFSPH);
+  EXPECT_EQ(s.solver.minIterations, 3);
+  EXPECT_EQ(s.solver.minDivergenceIterations, 2);
   EXPECT_EQ(s.time.startFrame, 1001);
   ASSERT_EQ(s.colliders.size(), 2u);
   EXPECT_EQ(s.colliders[0].shape, Shape::Sphere);

@@ -70,6 +70,7 @@ struct SolverSettings {
   double maxDensityError = 0;     ///< DFSPH: average density error tolerance (fraction of rho0)
   double maxDivergenceError = 0;  ///< DFSPH: divergence tolerance (fraction of rho0 per second)
   int minIterations = 0;
+  int minDivergenceIterations = 0;
   int maxIterations = 0;
 };
 

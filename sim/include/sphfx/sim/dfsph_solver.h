@@ -99,7 +99,7 @@ class DFSPHSolver : public PressureSolver {
 
   const DispatchGate* gate_;
   uint32_t particles_, groups_;
-  int minIterations_, maxIterations_;
+  int minIterations_, minDivergenceIterations_, maxIterations_;
   double minNeighbours_;
   int listSlots_;
   GpuBuffer particle_, increment_, warm_, partial_, control_, neighbors_, boundary_, count_;
