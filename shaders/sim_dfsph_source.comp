@@ -29,16 +29,14 @@ layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_WARM) readonly buffer DfsphWarm { 
 uniform uint uWarm;
 shared float groupSum[SIM_WG];
 
-vec3 velocity(uint j) { return vel[j].xyz; }
-
 // D rho_i / Dt = sum_j m (v_i - v_j) . grad W_ij + sum_b psi_b (v_i - v_b) . grad W_ib, from the list.
 float densityChange(uint i) {
-  vec3 vi = velocity(i);
+  vec3 vi = vel[i].xyz;
   uint n = simCounts.x, count = dfCount[i];
   float fluid = 0.0;
   for (uint k = 0u; k < count; ++k) {
     vec4 e = dfNbr[k * n + i];
-    fluid += dot(vi - velocity(floatBitsToUint(e.w)), e.xyz);
+    fluid += dot(vi - vel[floatBitsToUint(e.w)].xyz, e.xyz);
   }
   vec4 b = dfBoundary[i];
   return fluid + dot(vi, b.xyz) - b.w;

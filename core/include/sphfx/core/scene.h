@@ -68,7 +68,7 @@ struct SolverSettings {
   double gamma = 7;
   double kernelSupport = 0;       ///< kernel support radius h as a multiple of the particle spacing
   double maxDensityError = 0;     ///< DFSPH: average density error tolerance (fraction of rho0)
-  double maxDivergenceError = 0;  ///< DFSPH: divergence tolerance (fraction of rho0 per second)
+  double maxDivergenceError = 0;  ///< DFSPH: mean |D rho/Dt| / rho0 * dt (relative change per step)
   int minIterations = 0;
   int minDivergenceIterations = 0;
   int maxIterations = 0;
