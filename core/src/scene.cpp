@@ -186,6 +186,10 @@ std::shared_ptr<const Object<TimeSettings>> timeSchema() {
                 "CFL mode: factor on the viscous limit h^2 / nu.")
         .number("force_factor", &TimeSettings::forceFactor, 0.25, "", Range{0, 10, true, false},
                 "CFL mode: factor on the force limit sqrt(h / |a|max) (WCSPH).")
+        .number("fall_factor", &TimeSettings::fallFactor, 0.15, "", Range{0, 10, true, false},
+                "CFL mode, DFSPH: the non-pressure acceleration's displacement per step, |a|max dt^2 <= "
+                "factor * spacing (from rest a larger fall onto the floor, 0.27 spacings at the default "
+                "spacing, blew up the corner).")
         .number("dt_min", &TimeSettings::dtMin, 1e-6, "s", Range{0, 1, true, false},
                 "CFL mode: smallest step; needing less stops the run with an error.")
         .number("dt_max", &TimeSettings::dtMax, 0.005, "s", Range{0, 1, true, false},

@@ -81,7 +81,8 @@ SimParams makeSimParams(const Scene& scene, uint32_t particles, uint32_t boundar
   const bool fixed = scene.time.mode == TimeStepMode::Fixed;
   p.step[0] = float(scene.time.cflFactor);
   p.step[1] = float(scene.time.viscousFactor);
-  p.step[2] = float(scene.time.forceFactor);
+  // z: the acceleration bound's factor, Monaghan's force criterion (WCSPH) or the fall bound (DFSPH).
+  p.step[2] = float(scene.solver.method == Solver::DFSPH ? scene.time.fallFactor : scene.time.forceFactor);
   p.step[3] = fixed ? float(scene.time.dt) : 0.0f;
   p.limits[0] = float(scene.time.dtMin);
   p.limits[1] = float(scene.time.dtMax);

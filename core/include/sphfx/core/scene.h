@@ -83,6 +83,7 @@ struct TimeSettings {
   double cflFactor = 0;
   double viscousFactor = 0;
   double forceFactor = 0;
+  double fallFactor = 0;  ///< DFSPH: |a|max dt^2 <= fallFactor * spacing
   double dtMin = 0;
   double dtMax = 0;
 };
