@@ -1,10 +1,10 @@
 // Level set to triangles, and the deterministic VDB writer.
 #include <openvdb/io/File.h>
-#include <openvdb/tools/Interpolation.h>
 #include <openvdb/tools/VolumeToMesh.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -25,16 +25,34 @@ float dist2(const Vec3& a, const Vec3& b) {
   return x * x + y * y + z * z;
 }
 
-/// Unit gradient of the level set at `p` (central differences of trilinear samples, half a voxel apart).
-Vec3 gradientNormal(
-    const openvdb::tools::GridSampler<openvdb::FloatGrid::ConstAccessor, openvdb::tools::BoxSampler>& s,
-    const Vec3& p, double h) {
+/// Trilinear interpolation of the 3^3 values `v` (x slowest) at local index-space point `q`.
+double trilinear(const float (&v)[27], double qx, double qy, double qz) {
+  const int i = std::min(1, int(qx)), j = std::min(1, int(qy)), k = std::min(1, int(qz));
+  const double fx = qx - i, fy = qy - j, fz = qz - k;
+  auto at = [&](int x, int y, int z) { return double(v[(i + x) * 9 + (j + y) * 3 + (k + z)]); };
+  auto lerp = [](double a, double b, double t) { return a + (b - a) * t; };
+  const double c00 = lerp(at(0, 0, 0), at(0, 0, 1), fz), c01 = lerp(at(0, 1, 0), at(0, 1, 1), fz);
+  const double c10 = lerp(at(1, 0, 0), at(1, 0, 1), fz), c11 = lerp(at(1, 1, 0), at(1, 1, 1), fz);
+  return lerp(lerp(c00, c01, fy), lerp(c10, c11, fy), fx);
+}
+
+/// Unit gradient of the level set at index-space point `p`: central differences of trilinear samples
+/// half a voxel either side. The six samples lie in the 3^3 voxels from floor(p - 1/2), read once
+/// (27 lookups instead of 48).
+Vec3 gradientNormal(const openvdb::FloatGrid::ConstAccessor& acc, const openvdb::Vec3d& p) {
+  const openvdb::Coord base(int(std::floor(p[0] - 0.5)), int(std::floor(p[1] - 0.5)),
+                            int(std::floor(p[2] - 0.5)));
+  float v[27];
+  for (int x = 0; x < 3; ++x)
+    for (int y = 0; y < 3; ++y)
+      for (int z = 0; z < 3; ++z) v[x * 9 + y * 3 + z] = acc.getValue(base.offsetBy(x, y, z));
+  const openvdb::Vec3d q = p - base.asVec3d();
   double g[3];
   for (int a = 0; a < 3; ++a) {
-    openvdb::Vec3R lo(p[0], p[1], p[2]), hi = lo;
-    lo[a] -= h;
-    hi[a] += h;
-    g[a] = s.wsSample(hi) - s.wsSample(lo);
+    openvdb::Vec3d lo = q, hi = q;
+    lo[a] -= 0.5;
+    hi[a] += 0.5;
+    g[a] = trilinear(v, hi[0], hi[1], hi[2]) - trilinear(v, lo[0], lo[1], lo[2]);
   }
   const double len = std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
   if (!(len > 0)) return {0, 0, 0};
@@ -92,13 +110,12 @@ TriangleMesh meshLevelSet(const openvdb::FloatGrid& grid, double adaptivity) {
     }
   }
   mesh.normals.resize(points.size());
-  const double h = 0.5 * grid.voxelSize()[0];
   tbb::parallel_for(tbb::blocked_range<size_t>(0, points.size(), 4096), [&](const auto& r) {
     openvdb::FloatGrid::ConstAccessor acc = grid.getConstAccessor();
-    openvdb::tools::GridSampler<openvdb::FloatGrid::ConstAccessor, openvdb::tools::BoxSampler> sampler(
-        acc, grid.transform());
-    for (size_t i = r.begin(); i != r.end(); ++i)
-      mesh.normals[i] = gradientNormal(sampler, mesh.positions[i], h);
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      const auto& x = mesh.positions[i];
+      mesh.normals[i] = gradientNormal(acc, grid.transform().worldToIndex(openvdb::Vec3d(x[0], x[1], x[2])));
+    }
   });
   fillMissingNormals(mesh);
   return mesh;

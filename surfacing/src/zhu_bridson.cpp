@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <memory>
 #include <unordered_map>
 
@@ -20,8 +21,9 @@ uint64_t packKey(int64_t x, int64_t y, int64_t z) {
   return (uint64_t(x + kBias) << 42) | (uint64_t(y + kBias) << 21) | uint64_t(z + kBias);
 }
 
+/// Per-voxel sums of the block: weights and weighted positions, z fastest (LeafNode's order).
 struct Accumulator {
-  std::array<float, 512> w, x, y, z;
+  alignas(32) std::array<float, 512> w, x, y, z;
   void clear() {
     w.fill(0.f);
     x.fill(0.f);
@@ -30,12 +32,31 @@ struct Accumulator {
   }
 };
 
+// Four floats as one value: GCC and Clang compile its arithmetic to SIMD on any target (one SSE
+// register on baseline x86-64), where the plain 8-iteration loop stayed scalar.
+using Float4 = float __attribute__((vector_size(16)));
+
+Float4 load4(const float* p) {
+  Float4 v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+
+void store4(float* p, Float4 v) {
+  std::memcpy(p, &v, sizeof v);
+}
+
 /// Adds the kernel of the particle at `p` (index space, relative to the block's first voxel).
+/// Each (x, y) row within reach is evaluated on all 8 of its z voxels at once, without bounds: a
+/// voxel beyond reach gets weight 0 and adds exactly 0 (rows are 2-6 voxels long at the default
+/// kernel, so per-voxel bounds cost more than they save).
 void splat(const openvdb::Vec3f& p, float reach, Accumulator& acc) {
   // Most of the 27 blocks that gather a particle lie beyond its reach on some axis.
   for (int a = 0; a < 3; ++a)
     if (p[a] + reach < 0.f || p[a] - reach > 7.f) return;
   const float reach2 = reach * reach, inv2 = 1.f / reach2;
+  const Float4 dzLow = Float4{0, 1, 2, 3} - p[2], dzHigh = Float4{4, 5, 6, 7} - p[2];
+  const Float4 dz2[2] = {dzLow * dzLow, dzHigh * dzHigh}, zero = {0, 0, 0, 0};
   const int x0 = std::max(0, int(std::ceil(p[0] - reach))), x1 = std::min(7, int(std::floor(p[0] + reach)));
   for (int x = x0; x <= x1; ++x) {
     const float dx = float(x) - p[0], dx2 = dx * dx;
@@ -43,18 +64,16 @@ void splat(const openvdb::Vec3f& p, float reach, Accumulator& acc) {
     const int y0 = std::max(0, int(std::ceil(p[1] - ry))), y1 = std::min(7, int(std::floor(p[1] + ry)));
     for (int y = y0; y <= y1; ++y) {
       const float dy = float(y) - p[1], dxy2 = dx2 + dy * dy;
-      const float rz = std::sqrt(std::max(0.f, reach2 - dxy2));
-      const int z0 = std::max(0, int(std::ceil(p[2] - rz))), z1 = std::min(7, int(std::floor(p[2] + rz)));
       const int row = (x << 6) | (y << 3);
-      for (int z = z0; z <= z1; ++z) {
-        const float dz = float(z) - p[2];
-        const float t = 1.f - (dxy2 + dz * dz) * inv2;
-        if (t <= 0.f) continue;
-        const float k = t * t * t;
-        acc.w[row + z] += k;
-        acc.x[row + z] += k * p[0];
-        acc.y[row + z] += k * p[1];
-        acc.z[row + z] += k * p[2];
+      for (int half = 0; half < 2; ++half) {
+        const int n = row + 4 * half;
+        const Float4 u = 1.f - (dxy2 + dz2[half]) * inv2;
+        const Float4 t = u > zero ? u : zero;
+        const Float4 k = t * t * t;
+        store4(acc.w.data() + n, load4(acc.w.data() + n) + k);
+        store4(acc.x.data() + n, load4(acc.x.data() + n) + k * p[0]);
+        store4(acc.y.data() + n, load4(acc.y.data() + n) + k * p[1]);
+        store4(acc.z.data() + n, load4(acc.z.data() + n) + k * p[2]);
       }
     }
   }
@@ -93,6 +112,14 @@ openvdb::FloatGrid::Ptr rasterizeZhuBridsonBlocks(const std::vector<std::array<f
     }
     bins[keyed[i].first].second = i + 1;
   }
+  // Positions in voxel units in gather order: contiguous, and converted once rather than per block.
+  std::vector<openvdb::Vec3d> sortedVoxels(keyed.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, keyed.size(), 4096), [&](const auto& r) {
+    for (size_t k = r.begin(); k != r.end(); ++k) {
+      const auto& q = positions[keyed[k].second];
+      sortedVoxels[k] = openvdb::Vec3d(q[0] * inv, q[1] * inv, q[2] * inv);
+    }
+  });
   const float reach = float(search * inv);
   const int reachBlocks = int(std::ceil((reach + 1) / 8.0));
   std::vector<openvdb::Coord> blocks;
@@ -118,9 +145,9 @@ openvdb::FloatGrid::Ptr rasterizeZhuBridsonBlocks(const std::vector<std::array<f
             auto it = bins.find(packKey(b.x() + dx, b.y() + dy, b.z() + dz));
             if (it == bins.end()) continue;
             for (size_t k = it->second.first; k < it->second.second; ++k) {
-              const auto& q = positions[keyed[k].second];
-              const openvdb::Vec3f p(float(q[0] * inv - origin.x()), float(q[1] * inv - origin.y()),
-                                     float(q[2] * inv - origin.z()));
+              const auto& q = sortedVoxels[k];
+              const openvdb::Vec3f p(float(q[0] - origin.x()), float(q[1] - origin.y()),
+                                     float(q[2] - origin.z()));
               splat(p, reach, acc);
               touched = true;
             }

@@ -3,6 +3,7 @@
 
 #include <openvdb/tools/Interpolation.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -31,22 +32,75 @@ SurfaceParams defaultParams(SurfaceMethod method, double spacing) {
 struct SphereErrors {
   double volume, area;
   size_t badEdges;
+  double meanNormalDot, minNormalDot;  ///< vertex normals against the radial direction
+  double meanFaceDot, minFaceDot;      ///< vertex normals against their faces' area-weighted normal
 };
+
+/// Mean and minimum of n . m over the vertices, m the unit area-weighted normal of the vertex's
+/// triangles: the gradient normals agree with the mesh they are attached to.
+std::pair<double, double> faceNormalAgreement(const TriangleMesh& mesh) {
+  std::vector<std::array<double, 3>> sum(mesh.positions.size(), {0, 0, 0});
+  for (const auto& t : mesh.triangles) {
+    const auto &a = mesh.positions[t[0]], &b = mesh.positions[t[1]], &c = mesh.positions[t[2]];
+    const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]},
+                 w[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    const double n[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
+    for (uint32_t v : t)
+      for (int k = 0; k < 3; ++k) sum[v][k] += n[k];
+  }
+  double total = 0, least = 1;
+  for (size_t i = 0; i < sum.size(); ++i) {
+    const auto& m = sum[i];
+    const auto& n = mesh.normals[i];
+    const double len = std::sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
+    const double dot = (n[0] * m[0] + n[1] * m[1] + n[2] * m[2]) / len;
+    total += dot;
+    least = std::min(least, dot);
+  }
+  return {total / double(sum.size()), least};
+}
+
+/// Mean and minimum of n . x / |x| over the vertices: the exact sphere's normals are radial.
+std::pair<double, double> radialNormalAgreement(const TriangleMesh& mesh) {
+  double sum = 0, least = 1;
+  for (size_t i = 0; i < mesh.positions.size(); ++i) {
+    const auto& x = mesh.positions[i];
+    const auto& n = mesh.normals[i];
+    const double len = std::sqrt(double(x[0]) * x[0] + double(x[1]) * x[1] + double(x[2]) * x[2]);
+    const double dot = (n[0] * x[0] + n[1] * x[1] + n[2] * x[2]) / len;
+    sum += dot;
+    least = std::min(least, dot);
+  }
+  return {sum / double(mesh.positions.size()), least};
+}
 
 SphereErrors sphereErrors(SurfaceMethod method, double radiusInSpacings) {
   const double r = 1.0, s = r / radiusInSpacings;
   const SurfaceParams params = defaultParams(method, s);
   const auto grid = buildLevelSet(test::sphereLattice(r, s), params);
-  const auto m = measure(meshLevelSet(*grid, params.adaptivity));
+  const TriangleMesh mesh = meshLevelSet(*grid, params.adaptivity);
+  const auto m = measure(mesh);
+  const auto [meanDot, minDot] = radialNormalAgreement(mesh);
+  const auto [meanFace, minFace] = faceNormalAgreement(mesh);
   const double v0 = 4.0 / 3.0 * std::numbers::pi * r * r * r, a0 = 4 * std::numbers::pi * r * r;
-  std::printf("%-12s R/s %5.1f: volume %+.2f%%, area %+.2f%% (offset %.3f s)\n", methodName(method).c_str(),
-              radiusInSpacings, 100 * (m.volume - v0) / v0, 100 * (m.area - a0) / a0,
-              params.surfaceOffset / s);
-  return {std::abs(m.volume - v0) / v0, std::abs(m.area - a0) / a0, m.badEdges};
+  std::printf(
+      "%-12s R/s %5.1f: volume %+.2f%%, area %+.2f%% (offset %.3f s); normals . radial: mean %.4f, min %.3f;"
+      " . faces: mean %.4f, min %.3f\n",
+      methodName(method).c_str(), radiusInSpacings, 100 * (m.volume - v0) / v0, 100 * (m.area - a0) / a0,
+      params.surfaceOffset / s, meanDot, minDot, meanFace, minFace);
+  return {std::abs(m.volume - v0) / v0,
+          std::abs(m.area - a0) / a0,
+          m.badEdges,
+          meanDot,
+          minDot,
+          meanFace,
+          minFace};
 }
 
-// Tolerances at the finest resolution (R = 16 spacings), per method: spheres volume 3 %, area 4.5 %;
-// zhu-bridson 4 % and 4 %; anisotropic 1.5 % and 1.5 %.
+// Tolerances at the finest resolution (R = 32 spacings), per method: spheres volume 2 %, area 3 %;
+// zhu-bridson 2 % and 2 %; anisotropic 1 % and 1.5 %. R = 32 is in the list because three
+// resolutions do not show the trend: zhu-bridson's error at R = 8 is above R = 4's (measured
+// 2.2 %, 3.7 %, 2.3 %, 1.1 % volume at R = 4, 8, 16, 32).
 struct SphereCase {
   SurfaceMethod method;
   double volumeTol, areaTol;
@@ -57,19 +111,28 @@ class SphereTest : public ::testing::TestWithParam<SphereCase> {};
 TEST_P(SphereTest, ClosedWithVolumeAndAreaConvergingToTheSphere) {
   const SphereCase c = GetParam();
   std::vector<SphereErrors> errors;
-  for (double res : {4.0, 8.0, 16.0}) errors.push_back(sphereErrors(c.method, res));
-  for (const auto& e : errors) EXPECT_EQ(e.badEdges, 0u) << "mesh not closed";
+  for (double res : {4.0, 8.0, 16.0, 32.0}) errors.push_back(sphereErrors(c.method, res));
+  for (const auto& e : errors) {
+    EXPECT_EQ(e.badEdges, 0u) << "mesh not closed";
+    // Vertex normals from the level set's gradient agree with the mesh's own faces (measured: mean
+    // 0.997 or more, min 0.983) and point outward, radial up to the particle-scale bumps of the
+    // lattice (mean 0.977 or more, min 0.854, spheres at R/s = 32).
+    EXPECT_GT(e.meanFaceDot, 0.995);
+    EXPECT_GT(e.minFaceDot, 0.97);
+    EXPECT_GT(e.meanNormalDot, 0.97);
+    EXPECT_GT(e.minNormalDot, 0.8);
+  }
   EXPECT_LT(errors.back().volume, c.volumeTol);
   EXPECT_LT(errors.back().area, c.areaTol);
   // Error falls as the resolution rises.
-  EXPECT_LT(errors[2].volume + errors[2].area, errors[0].volume + errors[0].area);
-  EXPECT_LT(errors[2].volume, errors[0].volume);
+  EXPECT_LT(errors.back().volume + errors.back().area, errors[0].volume + errors[0].area);
+  EXPECT_LT(errors.back().volume, errors[0].volume);
 }
 
 INSTANTIATE_TEST_SUITE_P(Methods, SphereTest,
-                         ::testing::Values(SphereCase{SurfaceMethod::Spheres, 0.03, 0.045},
-                                           SphereCase{SurfaceMethod::ZhuBridson, 0.04, 0.04},
-                                           SphereCase{SurfaceMethod::Anisotropic, 0.015, 0.015}),
+                         ::testing::Values(SphereCase{SurfaceMethod::Spheres, 0.02, 0.03},
+                                           SphereCase{SurfaceMethod::ZhuBridson, 0.02, 0.02},
+                                           SphereCase{SurfaceMethod::Anisotropic, 0.01, 0.015}),
                          [](const auto& info) {
                            std::string n = methodName(info.param.method);
                            return n == "zhu-bridson" ? std::string("ZhuBridson") : n;
@@ -109,11 +172,16 @@ PoolTop poolTop(SurfaceMethod method, int smooth, double jitter) {
   return {mean, rms};
 }
 
-// The kernels themselves, before any smoothing: union-of-spheres bumps against Yu-Turk's flat kernels.
+// The kernels themselves, before any smoothing: union-of-spheres bumps against Yu-Turk's flat kernels
+// (measured 0.050 s against 0.020 s). Every raw top stays at the fluid's volume: with the raw union of
+// spheres the calibrated offset used to open pits (top 0.79 s low, RMS 0.70 s).
 TEST(Pool, AnisotropicTopIsFlatterThanSpheres) {
-  const double spheres = poolTop(SurfaceMethod::Spheres, 0, 0.05).rms;
-  const double aniso = poolTop(SurfaceMethod::Anisotropic, 0, 0.05).rms;
-  EXPECT_LT(aniso, 0.25 * spheres);
+  const PoolTop spheres = poolTop(SurfaceMethod::Spheres, 0, 0.05);
+  const PoolTop aniso = poolTop(SurfaceMethod::Anisotropic, 0, 0.05);
+  const PoolTop zhuBridson = poolTop(SurfaceMethod::ZhuBridson, 0, 0.05);
+  EXPECT_LT(aniso.rms, 0.5 * spheres.rms);
+  for (const PoolTop& top : {spheres, aniso, zhuBridson})
+    EXPECT_NEAR(top.mean, kPoolDepth * kPoolSpacing, 0.05 * kPoolSpacing);
 }
 
 // With the default settings every method puts the top where the particles' volume says (depth * s).
