@@ -271,20 +271,29 @@ TEST(LevelSet, BandHoldsSignedDistances) {
     const double r = std::cbrt(3 * m.volume / (4 * std::numbers::pi));
     const double dx = params.voxelSize;
     EXPECT_NEAR(grid->background(), params.halfWidth * dx, 1e-6);
-    double worst = 0;
-    size_t n = 0;
+    double worst = 0, sumAll = 0;
+    size_t n = 0, far = 0;
     for (auto it = grid->cbeginValueOn(); it; ++it) {
       const auto x = grid->indexToWorld(it.getCoord());
       const double exact = x.length() - r;
       EXPECT_LT(std::abs(*it), grid->background() + 1e-6);
+      sumAll += std::abs(*it - exact);
+      far += std::abs(exact) > grid->background() + dx;
       if (std::abs(exact) > dx) continue;  // the voxels around the zero crossing
       worst = std::max(worst, std::abs(*it - exact));
       ++n;
     }
-    std::printf("%-12s band: %zu voxels within 1 voxel of the surface, worst |phi - distance| %.3f voxels\n",
-                methodName(method).c_str(), n, worst / dx);
+    const size_t active = grid->activeVoxelCount();
+    std::printf(
+        "%-12s band: %zu voxels within 1 voxel of the surface, worst |phi - distance| %.3f voxels; all %zu "
+        "active: mean |phi - distance| %.3f voxels, %zu beyond half width + 1 voxel\n",
+        methodName(method).c_str(), n, worst / dx, active, sumAll / double(active) / dx, far);
     EXPECT_GT(n, 1000u);
     EXPECT_LT(worst, 0.5 * dx) << methodName(method);
+    // Deeper in the band the values converge more slowly (measured mean 0.21 voxels zhu-bridson, 0.16
+    // anisotropic); no voxel far outside the band stays active.
+    EXPECT_LT(sumAll / double(active), 0.3 * dx) << methodName(method);
+    EXPECT_EQ(far, 0u) << methodName(method);
   }
 }
 
