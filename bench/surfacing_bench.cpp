@@ -23,6 +23,7 @@
 #include <thread>
 
 #include "sphfx/core/error.h"
+#include "sphfx/core/huge_pages.h"
 #include "sphfx/core/particle_cache.h"
 #include "sphfx/surfacing/surfacing.h"
 
@@ -114,6 +115,7 @@ int usage() {
 }  // namespace
 
 int main(int argc, char** argv) {
+  reexecWithHugePageMalloc(argv);  // as the sphfx executable does
   std::string methodText = "zhu-bridson", cache, refineFrom, refinedOut;
   bool generate = false;
   size_t particles = 1000000;

@@ -4,9 +4,11 @@
 
 #include "commands.h"
 #include "sphfx/core/error.h"
+#include "sphfx/core/huge_pages.h"
 #include "sphfx/core/log.h"
 
 int main(int argc, char** argv) {
+  sphfx::reexecWithHugePageMalloc(argv);  // before anything allocates much
   CLI::App app{"sphfx: offline GPU SPH fluid pipeline (simulate -> surface -> render)", "sphfx"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "sphfx 0.1.0");

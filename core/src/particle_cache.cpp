@@ -5,7 +5,11 @@
 #include <openvdb/points/PointConversion.h>
 #include <openvdb/points/PointCount.h>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <filesystem>
+#include <memory>
 #include <mutex>
 
 #include "sphfx/core/error.h"
@@ -92,7 +96,7 @@ void writeParticleCache(const std::string& path, const ParticleFrame& f) {
   writeVdbFile(path, openvdb::GridCPtrVec{grid});
 }
 
-ParticleFrame readParticleCache(const std::string& path) {
+ParticleFrame readParticleCache(const std::string& path, CacheFields fields) {
   initOpenVdb();
   openvdb::GridBase::Ptr base;
   try {
@@ -115,37 +119,57 @@ ParticleFrame readParticleCache(const std::string& path) {
   f.frame = metaValue<int32_t>(*grid, "frame", path);
   f.time = metaValue<double>(*grid, "time", path);
   f.particleSpacing = metaValue<double>(*grid, "particle_spacing", path);
-  const auto count = size_t(vp::pointCount(grid->tree()));
-  f.position.reserve(count);
-  f.velocity.reserve(count);
 
-  const auto leafIter = grid->tree().cbeginLeaf();
-  if (!leafIter) return f;
-  const auto& descriptor = leafIter->attributeSet().descriptor();
-  const bool hasDensity = descriptor.find("density") != vp::AttributeSet::INVALID_POS;
-  const bool hasPressure = descriptor.find("pressure") != vp::AttributeSet::INVALID_POS;
-  const bool hasId = descriptor.find("id") != vp::AttributeSet::INVALID_POS;
+  // Each leaf's first point in the output, so that leaves are converted in parallel into the same
+  // order as a serial walk (leaf by leaf, voxel by voxel).
+  std::vector<const vp::PointDataTree::LeafNodeType*> leaves;
+  std::vector<size_t> first;
+  size_t count = 0;
+  for (auto leaf = grid->tree().cbeginLeaf(); leaf; ++leaf) {
+    leaves.push_back(&*leaf);
+    first.push_back(count);
+    count += size_t(leaf->onPointCount());
+  }
+  if (leaves.empty()) return f;
+  const auto& descriptor = leaves.front()->attributeSet().descriptor();
   if (descriptor.find("v") == vp::AttributeSet::INVALID_POS) throw InputError(path + ": no \"v\" attribute");
+  const bool all = fields == CacheFields::All;
+  auto has = [&](const char* name) { return all && descriptor.find(name) != vp::AttributeSet::INVALID_POS; };
+  const bool hasDensity = has("density"), hasPressure = has("pressure"), hasId = has("id");
+  f.position.resize(count);
+  if (all) f.velocity.resize(count);
+  if (hasDensity) f.density.resize(count);
+  if (hasPressure) f.pressure.resize(count);
+  if (hasId) f.id.resize(count);
 
   const openvdb::math::Transform& xform = grid->transform();
-  for (auto leaf = grid->tree().cbeginLeaf(); leaf; ++leaf) {
-    vp::AttributeHandle<openvdb::Vec3f> p(leaf->constAttributeArray("P"));
-    vp::AttributeHandle<openvdb::Vec3f> v(leaf->constAttributeArray("v"));
-    std::unique_ptr<vp::AttributeHandle<float>> d, pr;
-    std::unique_ptr<vp::AttributeHandle<int32_t>> id;
-    if (hasDensity) d = std::make_unique<vp::AttributeHandle<float>>(leaf->constAttributeArray("density"));
-    if (hasPressure) pr = std::make_unique<vp::AttributeHandle<float>>(leaf->constAttributeArray("pressure"));
-    if (hasId) id = std::make_unique<vp::AttributeHandle<int32_t>>(leaf->constAttributeArray("id"));
-    for (auto it = leaf->beginIndexOn(); it; ++it) {
-      const openvdb::Vec3d world = xform.indexToWorld(p.get(*it) + it.getCoord().asVec3d());
-      f.position.push_back({float(world.x()), float(world.y()), float(world.z())});
-      const openvdb::Vec3f vel = v.get(*it);
-      f.velocity.push_back({vel.x(), vel.y(), vel.z()});
-      if (d) f.density.push_back(d->get(*it));
-      if (pr) f.pressure.push_back(pr->get(*it));
-      if (id) f.id.push_back(id->get(*it));
+  // Attributes not asked for are never touched, so with delayed loading they are not even decompressed.
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, leaves.size(), 16), [&](const auto& r) {
+    for (size_t l = r.begin(); l != r.end(); ++l) {
+      const auto& leaf = *leaves[l];
+      vp::AttributeHandle<openvdb::Vec3f> p(leaf.constAttributeArray("P"));
+      std::unique_ptr<vp::AttributeHandle<openvdb::Vec3f>> v;
+      std::unique_ptr<vp::AttributeHandle<float>> d, pr;
+      std::unique_ptr<vp::AttributeHandle<int32_t>> id;
+      if (all) v = std::make_unique<vp::AttributeHandle<openvdb::Vec3f>>(leaf.constAttributeArray("v"));
+      if (hasDensity) d = std::make_unique<vp::AttributeHandle<float>>(leaf.constAttributeArray("density"));
+      if (hasPressure)
+        pr = std::make_unique<vp::AttributeHandle<float>>(leaf.constAttributeArray("pressure"));
+      if (hasId) id = std::make_unique<vp::AttributeHandle<int32_t>>(leaf.constAttributeArray("id"));
+      size_t n = first[l];
+      for (auto it = leaf.beginIndexOn(); it; ++it, ++n) {
+        const openvdb::Vec3d world = xform.indexToWorld(p.get(*it) + it.getCoord().asVec3d());
+        f.position[n] = {float(world.x()), float(world.y()), float(world.z())};
+        if (v) {
+          const openvdb::Vec3f vel = v->get(*it);
+          f.velocity[n] = {vel.x(), vel.y(), vel.z()};
+        }
+        if (d) f.density[n] = d->get(*it);
+        if (pr) f.pressure[n] = pr->get(*it);
+        if (id) f.id[n] = id->get(*it);
+      }
     }
-  }
+  });
   return f;
 }
 

@@ -32,17 +32,24 @@ struct Accumulator {
   }
 };
 
-// Four floats as one value: GCC and Clang compile its arithmetic to SIMD on any target (one SSE
-// register on baseline x86-64), where the plain 8-iteration loop stayed scalar.
-using Float4 = float __attribute__((vector_size(16)));
+// Eight floats (one z row of a block) as one value: GCC and Clang compile its arithmetic to SIMD on
+// any target: two SSE registers on baseline x86-64, one AVX register in gatherBlockAvx2 below (the
+// plain 8-iteration loop stayed scalar). Without FMA contraction (ISO C++ mode keeps
+// -ffp-contract=off) both compute the same roundings, so the output does not depend on the CPU
+// (tests/surfacing compares the two).
+using Float8 = float __attribute__((vector_size(32)));
 
-Float4 load4(const float* p) {
-  Float4 v;
+// Every function taking or returning a Float8 is inlined, so the AVX calling convention that GCC warns
+// about (-Wpsabi) never applies.
+#pragma GCC diagnostic ignored "-Wpsabi"
+
+inline __attribute__((always_inline)) Float8 load8(const float* p) {
+  Float8 v;
   std::memcpy(&v, p, sizeof v);
   return v;
 }
 
-void store4(float* p, Float4 v) {
+inline __attribute__((always_inline)) void store8(float* p, Float8 v) {
   std::memcpy(p, &v, sizeof v);
 }
 
@@ -50,13 +57,12 @@ void store4(float* p, Float4 v) {
 /// Each (x, y) row within reach is evaluated on all 8 of its z voxels at once, without bounds: a
 /// voxel beyond reach gets weight 0 and adds exactly 0 (rows are 2-6 voxels long at the default
 /// kernel, so per-voxel bounds cost more than they save).
-void splat(const openvdb::Vec3f& p, float reach, Accumulator& acc) {
+inline __attribute__((always_inline)) void splat(const openvdb::Vec3f& p, float reach, Accumulator& acc) {
   // Most of the 27 blocks that gather a particle lie beyond its reach on some axis.
   for (int a = 0; a < 3; ++a)
     if (p[a] + reach < 0.f || p[a] - reach > 7.f) return;
   const float reach2 = reach * reach, inv2 = 1.f / reach2;
-  const Float4 dzLow = Float4{0, 1, 2, 3} - p[2], dzHigh = Float4{4, 5, 6, 7} - p[2];
-  const Float4 dz2[2] = {dzLow * dzLow, dzHigh * dzHigh}, zero = {0, 0, 0, 0};
+  const Float8 dz = Float8{0, 1, 2, 3, 4, 5, 6, 7} - p[2], dz2 = dz * dz, zero = {};
   const int x0 = std::max(0, int(std::ceil(p[0] - reach))), x1 = std::min(7, int(std::floor(p[0] + reach)));
   for (int x = x0; x <= x1; ++x) {
     const float dx = float(x) - p[0], dx2 = dx * dx;
@@ -64,26 +70,68 @@ void splat(const openvdb::Vec3f& p, float reach, Accumulator& acc) {
     const int y0 = std::max(0, int(std::ceil(p[1] - ry))), y1 = std::min(7, int(std::floor(p[1] + ry)));
     for (int y = y0; y <= y1; ++y) {
       const float dy = float(y) - p[1], dxy2 = dx2 + dy * dy;
-      const int row = (x << 6) | (y << 3);
-      for (int half = 0; half < 2; ++half) {
-        const int n = row + 4 * half;
-        const Float4 u = 1.f - (dxy2 + dz2[half]) * inv2;
-        const Float4 t = u > zero ? u : zero;
-        const Float4 k = t * t * t;
-        store4(acc.w.data() + n, load4(acc.w.data() + n) + k);
-        store4(acc.x.data() + n, load4(acc.x.data() + n) + k * p[0]);
-        store4(acc.y.data() + n, load4(acc.y.data() + n) + k * p[1]);
-        store4(acc.z.data() + n, load4(acc.z.data() + n) + k * p[2]);
-      }
+      const int n = (x << 6) | (y << 3);
+      const Float8 u = 1.f - (dxy2 + dz2) * inv2;
+      const Float8 t = u > zero ? u : zero;
+      const Float8 k = t * t * t;
+      store8(acc.w.data() + n, load8(acc.w.data() + n) + k);
+      store8(acc.x.data() + n, load8(acc.x.data() + n) + k * p[0]);
+      store8(acc.y.data() + n, load8(acc.y.data() + n) + k * p[1]);
+      store8(acc.z.data() + n, load8(acc.z.data() + n) + k * p[2]);
     }
   }
 }
 
+/// Particles binned by 8^3 block: each bin's range in the gather order.
+using BlockBins = std::unordered_map<uint64_t, std::pair<size_t, size_t>>;
+
+/// Clears `acc` and adds the kernels of every particle binned within `reachBlocks` of block `b`, in a
+/// fixed order; false if no particle was gathered.
+inline __attribute__((always_inline)) bool gatherBlock(const openvdb::Coord& b, int reachBlocks, float reach,
+                                                       const BlockBins& bins,
+                                                       const std::vector<openvdb::Vec3d>& sortedVoxels,
+                                                       Accumulator& acc) {
+  const openvdb::Coord origin = b << 3;
+  acc.clear();
+  bool touched = false;
+  for (int dx = -reachBlocks; dx <= reachBlocks; ++dx)
+    for (int dy = -reachBlocks; dy <= reachBlocks; ++dy)
+      for (int dz = -reachBlocks; dz <= reachBlocks; ++dz) {
+        auto it = bins.find(packKey(b.x() + dx, b.y() + dy, b.z() + dz));
+        if (it == bins.end()) continue;
+        for (size_t k = it->second.first; k < it->second.second; ++k) {
+          const auto& q = sortedVoxels[k];
+          const openvdb::Vec3f p(float(q[0] - origin.x()), float(q[1] - origin.y()),
+                                 float(q[2] - origin.z()));
+          splat(p, reach, acc);
+          touched = true;
+        }
+      }
+  return touched;
+}
+
+// gatherBlock compiled twice; the caller picks one per rasterization (one call per block).
+bool gatherBlockBaseline(const openvdb::Coord& b, int reachBlocks, float reach, const BlockBins& bins,
+                         const std::vector<openvdb::Vec3d>& sortedVoxels, Accumulator& acc) {
+  return gatherBlock(b, reachBlocks, reach, bins, sortedVoxels, acc);
+}
+
+__attribute__((target("avx2"))) bool gatherBlockAvx2(const openvdb::Coord& b, int reachBlocks, float reach,
+                                                     const BlockBins& bins,
+                                                     const std::vector<openvdb::Vec3d>& sortedVoxels,
+                                                     Accumulator& acc) {
+  return gatherBlock(b, reachBlocks, reach, bins, sortedVoxels, acc);
+}
+
 }  // namespace
+
+bool splatIsaSupported(SplatIsa isa) {
+  return isa != SplatIsa::Avx2 || __builtin_cpu_supports("avx2");
+}
 
 openvdb::FloatGrid::Ptr rasterizeZhuBridsonBlocks(const std::vector<std::array<float, 3>>& positions,
                                                   double voxelSize, double radius, double search,
-                                                  double halfWidth) {
+                                                  double halfWidth, SplatIsa isa) {
   using LeafT = openvdb::FloatTree::LeafNodeType;
   auto grid = openvdb::createLevelSet<openvdb::FloatGrid>(voxelSize, halfWidth);
   if (positions.empty()) return grid;
@@ -103,7 +151,7 @@ openvdb::FloatGrid::Ptr rasterizeZhuBridsonBlocks(const std::vector<std::array<f
     }
   });
   tbb::parallel_sort(keyed.begin(), keyed.end());
-  std::unordered_map<uint64_t, std::pair<size_t, size_t>> bins;
+  BlockBins bins;
   std::vector<openvdb::Coord> occupied;
   for (size_t i = 0; i < keyed.size(); ++i) {
     if (i == 0 || keyed[i].first != keyed[i - 1].first) {
@@ -133,25 +181,13 @@ openvdb::FloatGrid::Ptr rasterizeZhuBridsonBlocks(const std::vector<std::array<f
 
   std::vector<std::unique_ptr<LeafT>> leaves(blocks.size());
   const float radiusVoxels = float(radius * inv);
+  const bool avx2 = isa == SplatIsa::Avx2 || (isa == SplatIsa::Auto && splatIsaSupported(SplatIsa::Avx2));
+  const auto gather = avx2 ? gatherBlockAvx2 : gatherBlockBaseline;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, blocks.size(), 4), [&](const auto& r) {
     Accumulator acc;
     for (size_t bi = r.begin(); bi != r.end(); ++bi) {
       const openvdb::Coord b = blocks[bi], origin = b << 3;
-      acc.clear();
-      bool touched = false;
-      for (int dx = -reachBlocks; dx <= reachBlocks; ++dx)
-        for (int dy = -reachBlocks; dy <= reachBlocks; ++dy)
-          for (int dz = -reachBlocks; dz <= reachBlocks; ++dz) {
-            auto it = bins.find(packKey(b.x() + dx, b.y() + dy, b.z() + dz));
-            if (it == bins.end()) continue;
-            for (size_t k = it->second.first; k < it->second.second; ++k) {
-              const auto& q = sortedVoxels[k];
-              const openvdb::Vec3f p(float(q[0] - origin.x()), float(q[1] - origin.y()),
-                                     float(q[2] - origin.z()));
-              splat(p, reach, acc);
-              touched = true;
-            }
-          }
+      const bool touched = gather(b, reachBlocks, reach, bins, sortedVoxels, acc);
       if (!touched) continue;
       auto leaf = std::make_unique<LeafT>(origin, background, false);
       bool any = false;

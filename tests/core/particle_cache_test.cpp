@@ -60,6 +60,13 @@ TEST(ParticleCache, RoundTripWithAllAttributes) {
     EXPECT_EQ(read.density[k], written.density[i]);
     EXPECT_EQ(read.pressure[k], written.pressure[i]);
   }
+  // The surfacing stage's read: the same positions in the same order, nothing else.
+  const ParticleFrame positions = readParticleCache(path, CacheFields::Positions);
+  EXPECT_EQ(positions.frame, read.frame);
+  EXPECT_EQ(positions.particleSpacing, read.particleSpacing);
+  EXPECT_EQ(positions.position, read.position);
+  EXPECT_TRUE(positions.velocity.empty() && positions.density.empty() && positions.pressure.empty() &&
+              positions.id.empty());
   fs::remove_all(dir);
 }
 

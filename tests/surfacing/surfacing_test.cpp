@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <numbers>
 #include <random>
 
@@ -257,6 +258,30 @@ TEST(ZhuBridson, BlockRasterizerMatchesDirectEvaluation) {
       }
   EXPECT_GT(active, 200u);
   EXPECT_GT(checked, 5000u);
+}
+
+// The AVX2 splat and the baseline (SSE) splat round alike: identical grids, voxel for voxel and bit for
+// bit, so a frame surfaces the same on every CPU.
+TEST(ZhuBridson, Avx2AndBaselineSplatsAreBitIdentical) {
+  if (!splatIsaSupported(SplatIsa::Avx2)) GTEST_SKIP() << "this CPU has no AVX2";
+  std::mt19937 rng(5);
+  std::normal_distribution<double> g(0, 0.2);
+  test::Points p;
+  for (int n = 0; n < 20000; ++n) p.push_back({float(g(rng)), float(g(rng)), float(0.5 * g(rng))});
+  const double voxel = 0.01, radius = 0.02, search = 0.04, halfWidth = 3;
+  const auto base = rasterizeZhuBridsonBlocks(p, voxel, radius, search, halfWidth, SplatIsa::Baseline);
+  const auto avx2 = rasterizeZhuBridsonBlocks(p, voxel, radius, search, halfWidth, SplatIsa::Avx2);
+  ASSERT_EQ(base->tree().leafCount(), avx2->tree().leafCount());
+  ASSERT_GT(base->tree().activeVoxelCount(), 10000u);
+  size_t leaves = 0;
+  for (auto it = base->tree().cbeginLeaf(); it; ++it, ++leaves) {
+    const auto* other = avx2->tree().probeConstLeaf(it->origin());
+    ASSERT_NE(other, nullptr) << it->origin();
+    EXPECT_TRUE(it->getValueMask() == other->getValueMask()) << it->origin();
+    EXPECT_EQ(std::memcmp(it->buffer().data(), other->buffer().data(), sizeof(float) * it->SIZE), 0)
+        << it->origin();
+  }
+  EXPECT_EQ(leaves, base->tree().leafCount());
 }
 
 // The output band holds signed distances: next to the surface, phi(x) matches |x| - R for a ball, R

@@ -33,10 +33,16 @@ struct ParticleFrame {
 /// @throws InputError if attribute arrays disagree in length; IoError on write failure.
 void writeParticleCache(const std::string& path, const ParticleFrame& frame);
 
+/// What readParticleCache fills in.
+enum class CacheFields {
+  All,       ///< every stored attribute
+  Positions  ///< positions only (velocity, density, pressure and id left empty, and not decompressed)
+};
+
 /// Reads a cache file. Points come back in the grid's storage order (voxel by voxel), which is
 /// deterministic but not the written order; use `id` to match particles across frames.
 /// @throws IoError if unreadable; InputError if it is not an sphfx particle cache of a known version.
-ParticleFrame readParticleCache(const std::string& path);
+ParticleFrame readParticleCache(const std::string& path, CacheFields fields = CacheFields::All);
 
 /// Path of frame `frame` in a shot: SHOT/cache/particles.####.vdb.
 std::string particleCachePath(const std::string& shotDir, int frame);
