@@ -22,6 +22,7 @@
 #include <numbers>
 #include <unordered_map>
 
+#include "band_distance.h"
 #include "sphfx/core/error.h"
 
 namespace sphfx::surfacing {
@@ -399,8 +400,8 @@ openvdb::FloatGrid::Ptr rasterizeAnisotropic(const std::vector<AnisotropicKernel
   openvdb::tools::pruneLevelSet(field->tree());  // the interior's inactive leaves to inside tiles
   lap("band");
   // Signed distances in the band: first-order distances to the crossing at the voxels next to it (linear
-  // interpolation of the density along each axis), then the Eikonal equation by fast sweeping.
-  openvdb::FloatGrid::Ptr sdf = openvdb::tools::sdfToSdf(*field, 0.f, 1);
+  // interpolation of the density along each axis), then the Eikonal equation layer by layer.
+  openvdb::FloatGrid::Ptr sdf = bandDistances(*field, halfWidth + 1);
   lap("sweep");
   // The narrow band: inactive values +-halfWidth voxels, active voxels beyond it switched off, pruned.
   openvdb::tools::changeLevelSetBackground(sdf->tree(), float(halfWidth * voxelSize));

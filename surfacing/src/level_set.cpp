@@ -13,6 +13,7 @@
 #include <mutex>
 #include <string>
 
+#include "face_neighbours.h"
 #include "sphfx/core/error.h"
 #include "sphfx/surfacing/anisotropic.h"
 #include "sphfx/surfacing/surfacing.h"
@@ -110,26 +111,7 @@ void restrictToBand(openvdb::FloatGrid& grid, int width) {
   openvdb::tree::LeafManager<openvdb::FloatTree> leafs(grid.tree());
   std::vector<std::unique_ptr<MaskTree::LeafNodeType>> crossings(leafs.leafCount());
   leafs.foreach ([&](const openvdb::FloatTree::LeafNodeType& leaf, size_t idx) {
-    // Face neighbours read from the leaf's buffer, or from the six neighbouring leaves' buffers (a
-    // missing neighbour is a tile: one value for all of it), not through an accessor per voxel.
-    using LeafT = openvdb::FloatTree::LeafNodeType;
-    const LeafT* next[3][2];
-    float tile[3][2];
-    for (int a = 0; a < 3; ++a)
-      for (int side = 0; side < 2; ++side) {
-        openvdb::Coord o = leaf.origin();
-        o[a] += side ? int(LeafT::DIM) : -int(LeafT::DIM);
-        next[a][side] = grid.tree().probeConstLeaf(o);
-        tile[a][side] = next[a][side] ? 0.f : grid.tree().getValue(o);
-      }
-    const float* values = leaf.buffer().data();
-    auto neighbour = [&](openvdb::Index n, int a, int side) {
-      const int shift = 6 - 3 * a, local = int(n >> shift) & 7;
-      const int stride = 1 << shift;
-      if (side ? local < 7 : local > 0) return values[side ? n + stride : n - stride];
-      const openvdb::Index wrapped = side ? n - 7 * stride : n + 7 * stride;
-      return next[a][side] ? next[a][side]->buffer().data()[wrapped] : tile[a][side];
-    };
+    const FaceNeighbours<openvdb::FloatTree> neighbour(grid.tree(), leaf);
     std::unique_ptr<MaskTree::LeafNodeType> mask;
     for (auto it = leaf.cbeginValueOn(); it; ++it) {
       const bool inside = *it < 0;

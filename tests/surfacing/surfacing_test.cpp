@@ -1,6 +1,7 @@
 // Geometry of the surfacing stage against analytic references (library level).
 #include <gtest/gtest.h>
 
+#include <openvdb/tools/FastSweeping.h>
 #include <openvdb/tools/Interpolation.h>
 
 #include <algorithm>
@@ -9,6 +10,7 @@
 #include <numbers>
 #include <random>
 
+#include "band_distance.h"
 #include "sphfx/core/scene.h"
 #include "sphfx/surfacing/anisotropic.h"
 #include "sphfx/surfacing/surfacing.h"
@@ -320,6 +322,62 @@ TEST(LevelSet, BandHoldsSignedDistances) {
     EXPECT_LT(sumAll / double(active), 0.3 * dx) << methodName(method);
     EXPECT_EQ(far, 0u) << methodName(method);
   }
+}
+
+// The anisotropic band's distances (group-marched Eikonal updates) from a field that is not a distance,
+// f = |x|^2 - R^2, against the exact |x| - R, and against OpenVDB's fast sweeping from the same field.
+TEST(LevelSet, GroupMarchedBandDistancesMatchTheExactDistance) {
+  const double voxel = 0.1, radius = 2.05;
+  const int reach = int(std::ceil(radius / voxel)) + 6;
+  auto field = openvdb::FloatGrid::create(1.f);  // outside
+  field->setTransform(openvdb::math::Transform::createLinearTransform(voxel));
+  auto acc = field->getAccessor();
+  for (int i = -reach; i <= reach; ++i)
+    for (int j = -reach; j <= reach; ++j)
+      for (int k = -reach; k <= reach; ++k) {
+        const double r = voxel * std::sqrt(double(i * i + j * j + k * k));
+        const float f = float(r * r - radius * radius);
+        // The band: within 4 voxels of the sphere; every other voxel of the leaves inactive, as in
+        // rasterizeAnisotropic.
+        if (std::abs(r - radius) <= 4 * voxel)
+          acc.setValue(openvdb::Coord(i, j, k), f);
+        else
+          acc.setValueOff(openvdb::Coord(i, j, k), f);
+      }
+  const double halfWidth = 3;
+  const auto ours = bandDistances(*field, halfWidth + 1);
+  const auto sweeping = openvdb::tools::sdfToSdf(*field, 0.f, 1);
+  struct Error {
+    double worstNear = 0, sum = 0;
+    size_t n = 0;
+  };
+  auto error = [&](const openvdb::FloatGrid& g) {
+    Error e;
+    auto a = g.getConstAccessor();
+    for (auto it = field->cbeginValueOn(); it; ++it) {
+      const auto x = field->indexToWorld(it.getCoord());
+      const double exact = x.length() - radius;
+      if (std::abs(exact) > halfWidth * voxel) continue;  // what the trim keeps
+      const double d = std::abs(a.getValue(it.getCoord()) - exact) / voxel;
+      e.sum += d;
+      ++e.n;
+      if (std::abs(exact) <= voxel) e.worstNear = std::max(e.worstNear, d);
+    }
+    return e;
+  };
+  const Error a = error(*ours), b = error(*sweeping);
+  std::printf(
+      "band distances (voxels): group marching worst near %.3f, mean %.3f; fast sweeping worst near %.3f, "
+      "mean %.3f "
+      "(%zu voxels)\n",
+      a.worstNear, a.sum / double(a.n), b.worstNear, b.sum / double(b.n), a.n);
+  ASSERT_GT(a.n, 10000u);
+  // Near the surface both start from the same first-order crossing distances (measured 0.335 voxels
+  // worst on this curved field); deeper, group marching measured mean 0.053 against sweeping's 0.051.
+  EXPECT_LT(a.worstNear, 0.4);
+  EXPECT_LE(a.worstNear, b.worstNear + 0.01);
+  EXPECT_LT(a.sum / double(a.n), 0.07);
+  EXPECT_LT(a.sum / double(a.n), 1.1 * b.sum / double(b.n) + 0.005);
 }
 
 TEST(LevelSet, EmptyInputGivesEmptyLevelSet) {
