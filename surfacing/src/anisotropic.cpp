@@ -19,9 +19,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <numbers>
 #include <unordered_map>
 
+#include "anisotropic_isa.h"
 #include "band_distance.h"
 #include "sphfx/core/error.h"
 
@@ -54,9 +56,12 @@ class CellGrid {
     order_.resize(keyed.size());
     for (size_t i = 0; i < keyed.size(); ++i) {
       order_[i] = keyed[i].second;
-      if (i == 0 || keyed[i].first != keyed[i - 1].first)
+      if (i == 0 || keyed[i].first != keyed[i - 1].first) {
         ranges_[keyed[i].first] = {uint32_t(i), uint32_t(i)};
+        cells_.push_back({coord(p[keyed[i].second]), uint32_t(i), uint32_t(i)});
+      }
       ranges_[keyed[i].first].second = uint32_t(i + 1);
+      cells_.back().end = uint32_t(i + 1);
     }
   }
 
@@ -69,10 +74,18 @@ class CellGrid {
     return packKey(c[0], c[1], c[2]);
   }
 
-  /// Calls f(j) for every particle j in the 27 cells around `x`, in a fixed order.
+  /// The occupied cells: a cell coordinate and its range in order().
+  struct Cell {
+    std::array<int64_t, 3> coord;
+    uint32_t begin, end;
+  };
+  const std::vector<Cell>& cells() const { return cells_; }
+  /// Particle indices, cell by cell.
+  const std::vector<uint32_t>& order() const { return order_; }
+
+  /// Calls f(j) for every particle j in the 27 cells around cell `c`, in a fixed order.
   template <class F>
-  void forEachNear(const std::array<float, 3>& x, F&& f) const {
-    const auto c = coord(x);
+  void forEachNear(const std::array<int64_t, 3>& c, F&& f) const {
     for (int64_t dx = -1; dx <= 1; ++dx)
       for (int64_t dy = -1; dy <= 1; ++dy)
         for (int64_t dz = -1; dz <= 1; ++dz) {
@@ -86,6 +99,7 @@ class CellGrid {
   double cell_;
   std::vector<uint32_t> order_;
   std::unordered_map<uint64_t, std::pair<uint32_t, uint32_t>> ranges_;
+  std::vector<Cell> cells_;
 };
 
 /// Eigen-decomposition of a symmetric 3x3 matrix by cyclic Jacobi rotations (fixed sweep limit, so the
@@ -144,28 +158,102 @@ AnisotropicKernel makeKernel(const Vec3d& center, const Mat3d& rot, const Vec3d&
   return k;
 }
 
-AnisotropicKernel kernelFor(const std::vector<std::array<float, 3>>& p, const CellGrid& cells, size_t i,
+/// A cell's neighbour candidates (the particles of its 27 neighbour cells, in CellGrid's fixed order)
+/// as floats relative to a point of the cell, structure of arrays, padded to whole rows of kLanes with
+/// points far outside every kernel.
+constexpr int kLanes = 8;
+struct Candidates {
+  std::vector<float> x, y, z;
+  void clear() {
+    x.clear();
+    y.clear();
+    z.clear();
+  }
+  void push(float a, float b, float c) {
+    x.push_back(a);
+    y.push_back(b);
+    z.push_back(c);
+  }
+  void pad() {
+    while (x.size() % kLanes) push(1e18f, 1e18f, 1e18f);
+  }
+};
+
+/// Per-lane sums of the weight w = 1 - (r/h)^3 (r < h), the neighbour count and the first and second
+/// moments of the offsets. Lane k sums candidates k, k + kLanes, ...: the same sums whatever the
+/// vector width the compiler picks, and reduced in a fixed order afterwards.
+struct LaneSums {
+  alignas(32) float w[kLanes], n[kLanes], x[kLanes], y[kLanes], z[kLanes];
+  alignas(32) float xx[kLanes], xy[kLanes], xz[kLanes], yy[kLanes], yz[kLanes], zz[kLanes];
+};
+
+// Eight floats as one value (GCC/Clang vector extension): SIMD on any target, as in zhu_bridson.cpp.
+// Every function taking or returning one is inlined (no AVX calling convention, -Wpsabi).
+#pragma GCC diagnostic ignored "-Wpsabi"
+using Float8 = float __attribute__((vector_size(32)));
+
+inline __attribute__((always_inline)) Float8 load8(const float* p) {
+  Float8 v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+
+inline __attribute__((always_inline)) void sumMoments(const Candidates& c, float px, float py, float pz,
+                                                      float h, LaneSums& s) {
+  const float h2 = h * h, invH = 1 / h;
+  const Float8 zero = {}, one = zero + 1.f;
+  Float8 w8 = zero, n8 = zero, x8 = zero, y8 = zero, z8 = zero;
+  Float8 xx = zero, xy = zero, xz = zero, yy = zero, yz = zero, zz = zero;
+  for (size_t j0 = 0; j0 < c.x.size(); j0 += kLanes) {
+    const Float8 dx = load8(&c.x[j0]) - px, dy = load8(&c.y[j0]) - py, dz = load8(&c.z[j0]) - pz;
+    const Float8 r2 = dx * dx + dy * dy + dz * dz;
+    Float8 r;
+    for (int k = 0; k < kLanes; ++k) r[k] = __builtin_sqrtf(r2[k]);  // sqrtps: built with -fno-math-errno
+    r *= invH;
+    const auto in = r2 < h2;
+    const Float8 w = in ? one - r * r * r : zero;
+    w8 += w;
+    n8 += in ? one : zero;
+    x8 += w * dx;
+    y8 += w * dy;
+    z8 += w * dz;
+    xx += w * dx * dx;
+    xy += w * dx * dy;
+    xz += w * dx * dz;
+    yy += w * dy * dy;
+    yz += w * dy * dz;
+    zz += w * dz * dz;
+  }
+  auto store = [](float(&out)[kLanes], Float8 v) { std::memcpy(out, &v, sizeof out); };
+  store(s.w, w8), store(s.n, n8), store(s.x, x8), store(s.y, y8), store(s.z, z8);
+  store(s.xx, xx), store(s.xy, xy), store(s.xz, xz), store(s.yy, yy), store(s.yz, yz), store(s.zz, zz);
+}
+
+// sumMoments compiled for the baseline and for AVX2 (simd.h); chosen once per call of
+// computeAnisotropicKernels.
+void sumMomentsBaseline(const Candidates& c, float px, float py, float pz, float h, LaneSums& s) {
+  sumMoments(c, px, py, pz, h, s);
+}
+__attribute__((target("avx2"))) void sumMomentsAvx2(const Candidates& c, float px, float py, float pz,
+                                                    float h, LaneSums& s) {
+  sumMoments(c, px, py, pz, h, s);
+}
+
+double laneTotal(const float (&v)[kLanes]) {
+  double t = 0;
+  for (float x : v) t += x;
+  return t;
+}
+
+/// The kernel of the particle at `xi` from its neighbourhood's lane sums (offsets relative to xi).
+AnisotropicKernel kernelFor(const std::array<float, 3>& xi, const LaneSums& sums,
                             const AnisotropicSettings& s) {
   const double h = s.support, h2 = h * h;
-  const auto& xi = p[i];
-  // One pass in coordinates relative to x_i (doubles): weight sum, first and second moments.
-  double wsum = 0;
-  Vec3d m1{0, 0, 0};
-  Mat3d m2{};
-  int neighbours = 0;
-  cells.forEachNear(xi, [&](uint32_t j) {
-    const double d[3] = {double(p[j][0]) - xi[0], double(p[j][1]) - xi[1], double(p[j][2]) - xi[2]};
-    const double r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-    if (r2 >= h2) return;
-    const double r = std::sqrt(r2) / h;
-    const double w = 1 - r * r * r;
-    wsum += w;
-    neighbours += j != i;
-    for (int a = 0; a < 3; ++a) {
-      m1[a] += w * d[a];
-      for (int b = 0; b < 3; ++b) m2[a][b] += w * d[a] * d[b];
-    }
-  });
+  const double wsum = laneTotal(sums.w);
+  const int neighbours = int(laneTotal(sums.n)) - 1;  // less the particle itself
+  const Vec3d m1{laneTotal(sums.x), laneTotal(sums.y), laneTotal(sums.z)};
+  const double xy = laneTotal(sums.xy), xz = laneTotal(sums.xz), yz = laneTotal(sums.yz);
+  const Mat3d m2{{{laneTotal(sums.xx), xy, xz}, {xy, laneTotal(sums.yy), yz}, {xz, yz, laneTotal(sums.zz)}}};
   Vec3d mean{}, center{};
   for (int a = 0; a < 3; ++a) {
     mean[a] = m1[a] / wsum;
@@ -239,12 +327,27 @@ Splat prepareSplat(const AnisotropicKernel& k, double voxel) {
 /// Accumulates the density of `k` into the 8^3 block whose first voxel is `origin`. Each row along z
 /// visits only the voxels where the quadratic q^2(z) can be below 1 (its roots widened by one voxel,
 /// then the same float test as for every voxel), so the sums are those of visiting the whole box.
-void splat(const Splat& k, const openvdb::Coord& origin, float* acc) {
+/// Kernels binned by the 8^3 block holding their centre: their range in the splat order and the union
+/// of their voxel boxes.
+struct DensityBin {
+  size_t begin, end;
+  openvdb::CoordBBox box;  // voxels its kernels can reach
+};
+using DensityBins = std::unordered_map<uint64_t, DensityBin>;
+
+inline __attribute__((always_inline)) void store8(float* p, Float8 v) {
+  std::memcpy(p, &v, sizeof v);
+}
+
+inline __attribute__((always_inline)) void splat(const Splat& k, const openvdb::Coord& origin, float* acc) {
   const int x0 = std::max(origin.x(), k.lo[0]), x1 = std::min(origin.x() + 7, k.hi[0]);
   const int y0 = std::max(origin.y(), k.lo[1]), y1 = std::min(origin.y() + 7, k.hi[1]);
   const int z0 = std::max(origin.z(), k.lo[2]), z1 = std::min(origin.z() + 7, k.hi[2]);
   if (x0 > x1 || y0 > y1 || z0 > z1) return;
   const double inv2mzz = 1.0 / (2.0 * k.mzz);
+  // The block's 8 z voxels as one row: dz per lane (integers plus a float: exactly float(z) - cz).
+  const Float8 lane = {0, 1, 2, 3, 4, 5, 6, 7}, zero = {};
+  const Float8 dz = (lane + float(origin.z())) - k.cz;
   for (int x = x0; x <= x1; ++x) {
     const float dx = float(x) - k.cx;
     for (int y = y0; y <= y1; ++y) {
@@ -258,29 +361,83 @@ void splat(const Splat& k, const openvdb::Coord& origin, float* acc) {
       const double mid = k.cz - bx * inv2mzz, half = std::sqrt(std::max(disc, 0.0)) * inv2mzz;
       const int za = std::max(z0, int(std::floor(mid - half)) - 1),
                 zb = std::min(z1, int(std::ceil(mid + half)) + 1);
-      float* row = acc + ((x - origin.x()) << 6) + ((y - origin.y()) << 3) - origin.z();
-      for (int z = za; z <= zb; ++z) {
-        const float dz = float(z) - k.cz;
-        const float q2 = base + dz * (bx + k.mzz * dz);
-        if (q2 >= 1.f) continue;
-        const float t = 1.f - q2;
-        row[z] += k.weight * t * t * t;
-      }
+      if (za > zb) continue;
+      // All 8 voxels at once; those outside [za, zb] or with q2 >= 1 add nothing (as the scalar loop
+      // over [za, zb] that skipped q2 >= 1: the same sums, bit for bit).
+      const Float8 q2 = base + dz * (bx + k.mzz * dz), t = 1.f - q2;
+      const auto take = (q2 < 1.f) & (lane >= float(za - origin.z())) & (lane <= float(zb - origin.z()));
+      float* row = acc + ((x - origin.x()) << 6) + ((y - origin.y()) << 3);
+      store8(row, load8(row) + (take ? k.weight * t * t * t : zero));
     }
   }
+}
+
+/// The summed density of the kernels binned within `reach` blocks of block `b`, into `acc` (cleared
+/// first), gathered in a fixed order. Built for the baseline and for AVX2 (simd.h).
+inline __attribute__((always_inline)) void densityOfBlock(const openvdb::Coord& b, int reach,
+                                                          const DensityBins& bins,
+                                                          const std::vector<Splat>& splats, float* acc) {
+  const openvdb::Coord origin = b << 3;
+  const openvdb::CoordBBox blockBox(origin, origin.offsetBy(7));
+  std::fill(acc, acc + 512, 0.f);
+  for (int dx = -reach; dx <= reach; ++dx)
+    for (int dy = -reach; dy <= reach; ++dy)
+      for (int dz = -reach; dz <= reach; ++dz) {
+        auto it = bins.find(packKey(b.x() + dx, b.y() + dy, b.z() + dz));
+        if (it == bins.end() || !it->second.box.hasOverlap(blockBox)) continue;
+        for (size_t k = it->second.begin; k < it->second.end; ++k) splat(splats[k], origin, acc);
+      }
+}
+
+void densityOfBlockBaseline(const openvdb::Coord& b, int reach, const DensityBins& bins,
+                            const std::vector<Splat>& splats, float* acc) {
+  densityOfBlock(b, reach, bins, splats, acc);
+}
+
+__attribute__((target("avx2"))) void densityOfBlockAvx2(const openvdb::Coord& b, int reach,
+                                                        const DensityBins& bins,
+                                                        const std::vector<Splat>& splats, float* acc) {
+  densityOfBlock(b, reach, bins, splats, acc);
 }
 
 }  // namespace
 
 std::vector<AnisotropicKernel> computeAnisotropicKernels(const std::vector<std::array<float, 3>>& positions,
                                                          const AnisotropicSettings& settings) {
+  return computeAnisotropicKernels(positions, settings, SimdIsa::Auto);
+}
+
+std::vector<AnisotropicKernel> computeAnisotropicKernels(const std::vector<std::array<float, 3>>& positions,
+                                                         const AnisotropicSettings& settings, SimdIsa isa) {
   if (!(settings.spacing > 0) || !(settings.support > 0))
     throw InputError("anisotropic kernels: spacing and support must be positive");
   std::vector<AnisotropicKernel> kernels(positions.size());
   if (positions.empty()) return kernels;
   const CellGrid cells(positions, settings.support);
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, positions.size(), 1024), [&](const auto& r) {
-    for (size_t i = r.begin(); i != r.end(); ++i) kernels[i] = kernelFor(positions, cells, i, settings);
+  const auto sum = useAvx2(isa) ? sumMomentsAvx2 : sumMomentsBaseline;
+  const float h = float(settings.support);
+  // Cell by cell: the 27 cells' particles are gathered once for all the particles of a cell.
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, cells.cells().size(), 16), [&](const auto& r) {
+    Candidates candidates;
+    LaneSums sums;
+    for (size_t ci = r.begin(); ci != r.end(); ++ci) {
+      const auto& cell = cells.cells()[ci];
+      const auto& origin = positions[cells.order()[cell.begin]];
+      candidates.clear();
+      cells.forEachNear(cell.coord, [&](uint32_t j) {
+        candidates.push(float(double(positions[j][0]) - origin[0]),
+                        float(double(positions[j][1]) - origin[1]),
+                        float(double(positions[j][2]) - origin[2]));
+      });
+      candidates.pad();
+      for (uint32_t k = cell.begin; k < cell.end; ++k) {
+        const uint32_t i = cells.order()[k];
+        const auto& xi = positions[i];
+        sum(candidates, float(double(xi[0]) - origin[0]), float(double(xi[1]) - origin[1]),
+            float(double(xi[2]) - origin[2]), h, sums);
+        kernels[i] = kernelFor(xi, sums, settings);
+      }
+    }
   });
   return kernels;
 }
@@ -312,12 +469,8 @@ openvdb::FloatGrid::Ptr densityField(const std::vector<AnisotropicKernel>& kerne
     for (size_t i = r.begin(); i != r.end(); ++i)
       splats[i] = prepareSplat(kernels[keyed[i].second], voxelSize);
   });
-  struct Bin {
-    size_t begin, end;
-    openvdb::CoordBBox box;  // voxels its kernels can reach
-  };
-  std::unordered_map<uint64_t, Bin> bins;
-  std::vector<const Bin*> binList;
+  DensityBins bins;
+  std::vector<const DensityBin*> binList;
   float maxExtent = 0;
   for (size_t i = 0; i < keyed.size(); ++i) {
     const Splat& k = splats[i];
@@ -326,7 +479,7 @@ openvdb::FloatGrid::Ptr densityField(const std::vector<AnisotropicKernel>& kerne
     if (i == 0 || keyed[i].first != keyed[i - 1].first) {
       binList.push_back(&(bins[keyed[i].first] = {i, i, box}));
     }
-    Bin& bin = bins[keyed[i].first];
+    DensityBin& bin = bins[keyed[i].first];
     bin.end = i + 1;
     bin.box.expand(box);
     maxExtent = std::max(maxExtent, kernels[keyed[i].second].extent);
@@ -335,7 +488,7 @@ openvdb::FloatGrid::Ptr densityField(const std::vector<AnisotropicKernel>& kerne
   const int reach = int(std::ceil((maxExtent / voxelSize + 1) / 8.0));
   // The blocks some kernel's box touches.
   std::vector<openvdb::Coord> blocks;
-  for (const Bin* bin : binList) {
+  for (const DensityBin* bin : binList) {
     const openvdb::Coord lo = bin->box.min() >> 3, hi = bin->box.max() >> 3;
     for (int x = lo.x(); x <= hi.x(); ++x)
       for (int y = lo.y(); y <= hi.y(); ++y)
@@ -345,19 +498,12 @@ openvdb::FloatGrid::Ptr densityField(const std::vector<AnisotropicKernel>& kerne
   blocks.erase(std::unique(blocks.begin(), blocks.end()), blocks.end());
 
   std::vector<std::unique_ptr<LeafT>> leaves(blocks.size());
+  const auto density = useAvx2(SimdIsa::Auto) ? densityOfBlockAvx2 : densityOfBlockBaseline;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, blocks.size(), 4), [&](const auto& r) {
-    std::array<float, 512> acc;
+    alignas(32) std::array<float, 512> acc;
     for (size_t bi = r.begin(); bi != r.end(); ++bi) {
       const openvdb::Coord b = blocks[bi], origin = b << 3;
-      const openvdb::CoordBBox blockBox(origin, origin.offsetBy(7));
-      acc.fill(0.f);
-      for (int dx = -reach; dx <= reach; ++dx)
-        for (int dy = -reach; dy <= reach; ++dy)
-          for (int dz = -reach; dz <= reach; ++dz) {
-            auto it = bins.find(packKey(b.x() + dx, b.y() + dy, b.z() + dz));
-            if (it == bins.end() || !it->second.box.hasOverlap(blockBox)) continue;
-            for (size_t k = it->second.begin; k < it->second.end; ++k) splat(splats[k], origin, acc.data());
-          }
+      density(b, reach, bins, splats, acc.data());
       if (*std::max_element(acc.begin(), acc.end()) == 0.f) continue;
       auto leaf = std::make_unique<LeafT>(origin, kIso, true);
       for (openvdb::Index n = 0; n < LeafT::SIZE; ++n) leaf->setValueOnly(n, kIso - acc[n]);

@@ -125,13 +125,9 @@ __attribute__((target("avx2"))) bool gatherBlockAvx2(const openvdb::Coord& b, in
 
 }  // namespace
 
-bool splatIsaSupported(SplatIsa isa) {
-  return isa != SplatIsa::Avx2 || __builtin_cpu_supports("avx2");
-}
-
 openvdb::FloatGrid::Ptr rasterizeZhuBridsonBlocks(const std::vector<std::array<float, 3>>& positions,
                                                   double voxelSize, double radius, double search,
-                                                  double halfWidth, SplatIsa isa) {
+                                                  double halfWidth, SimdIsa isa) {
   using LeafT = openvdb::FloatTree::LeafNodeType;
   auto grid = openvdb::createLevelSet<openvdb::FloatGrid>(voxelSize, halfWidth);
   if (positions.empty()) return grid;
@@ -181,8 +177,7 @@ openvdb::FloatGrid::Ptr rasterizeZhuBridsonBlocks(const std::vector<std::array<f
 
   std::vector<std::unique_ptr<LeafT>> leaves(blocks.size());
   const float radiusVoxels = float(radius * inv);
-  const bool avx2 = isa == SplatIsa::Avx2 || (isa == SplatIsa::Auto && splatIsaSupported(SplatIsa::Avx2));
-  const auto gather = avx2 ? gatherBlockAvx2 : gatherBlockBaseline;
+  const auto gather = useAvx2(isa) ? gatherBlockAvx2 : gatherBlockBaseline;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, blocks.size(), 4), [&](const auto& r) {
     Accumulator acc;
     for (size_t bi = r.begin(); bi != r.end(); ++bi) {

@@ -10,6 +10,7 @@
 #include <numbers>
 #include <random>
 
+#include "anisotropic_isa.h"
 #include "band_distance.h"
 #include "sphfx/core/scene.h"
 #include "sphfx/surfacing/anisotropic.h"
@@ -220,6 +221,27 @@ TEST(Anisotropic, KernelShapes) {
   EXPECT_LT(l.metric[0] * 4, l.metric[3]) << "metric xx should be smallest (long axis along x)";
 }
 
+// The anisotropic kernels' neighbour sums built for AVX2 and for the baseline: identical kernels.
+TEST(Anisotropic, Avx2AndBaselineKernelsAreBitIdentical) {
+  if (!simdSupported(SimdIsa::Avx2)) GTEST_SKIP() << "this CPU has no AVX2";
+  std::mt19937 rng(9);
+  std::normal_distribution<double> g(0, 0.1);
+  test::Points p;
+  for (int n = 0; n < 20000; ++n) p.push_back({float(g(rng)), float(g(rng)), float(0.3 * g(rng))});
+  AnisotropicSettings settings;
+  settings.spacing = 0.01;
+  settings.support = 0.02;
+  const auto base = computeAnisotropicKernels(p, settings, SimdIsa::Baseline);
+  const auto avx2 = computeAnisotropicKernels(p, settings, SimdIsa::Avx2);
+  ASSERT_EQ(base.size(), avx2.size());
+  size_t stretched = 0;
+  for (size_t i = 0; i < base.size(); ++i) {
+    ASSERT_EQ(std::memcmp(&base[i], &avx2[i], sizeof base[i]), 0) << "kernel " << i;
+    stretched += base[i].metric[0] != base[i].metric[3];
+  }
+  EXPECT_GT(stretched, 1000u);  // anisotropic kernels were compared, not only isolated spheres
+}
+
 // The block rasterizer against the Zhu-Bridson formula evaluated directly (doubles, every particle).
 TEST(ZhuBridson, BlockRasterizerMatchesDirectEvaluation) {
   std::mt19937 rng(3);
@@ -265,14 +287,14 @@ TEST(ZhuBridson, BlockRasterizerMatchesDirectEvaluation) {
 // The AVX2 splat and the baseline (SSE) splat round alike: identical grids, voxel for voxel and bit for
 // bit, so a frame surfaces the same on every CPU.
 TEST(ZhuBridson, Avx2AndBaselineSplatsAreBitIdentical) {
-  if (!splatIsaSupported(SplatIsa::Avx2)) GTEST_SKIP() << "this CPU has no AVX2";
+  if (!simdSupported(SimdIsa::Avx2)) GTEST_SKIP() << "this CPU has no AVX2";
   std::mt19937 rng(5);
   std::normal_distribution<double> g(0, 0.2);
   test::Points p;
   for (int n = 0; n < 20000; ++n) p.push_back({float(g(rng)), float(g(rng)), float(0.5 * g(rng))});
   const double voxel = 0.01, radius = 0.02, search = 0.04, halfWidth = 3;
-  const auto base = rasterizeZhuBridsonBlocks(p, voxel, radius, search, halfWidth, SplatIsa::Baseline);
-  const auto avx2 = rasterizeZhuBridsonBlocks(p, voxel, radius, search, halfWidth, SplatIsa::Avx2);
+  const auto base = rasterizeZhuBridsonBlocks(p, voxel, radius, search, halfWidth, SimdIsa::Baseline);
+  const auto avx2 = rasterizeZhuBridsonBlocks(p, voxel, radius, search, halfWidth, SimdIsa::Avx2);
   ASSERT_EQ(base->tree().leafCount(), avx2->tree().leafCount());
   ASSERT_GT(base->tree().activeVoxelCount(), 10000u);
   size_t leaves = 0;
