@@ -221,13 +221,20 @@ TEST(Anisotropic, KernelShapes) {
   EXPECT_LT(l.metric[0] * 4, l.metric[3]) << "metric xx should be smallest (long axis along x)";
 }
 
+/// 20,000 points, normally distributed with deviation `sigma` (times `zScale` along z): dense inside,
+/// sparse outside, so both full and thin neighbourhoods occur.
+test::Points gaussianBlob(unsigned seed, double sigma, double zScale) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> g(0, sigma);
+  test::Points p;
+  for (int n = 0; n < 20000; ++n) p.push_back({float(g(rng)), float(g(rng)), float(zScale * g(rng))});
+  return p;
+}
+
 // The anisotropic kernels' neighbour sums built for AVX2 and for the baseline: identical kernels.
 TEST(Anisotropic, Avx2AndBaselineKernelsAreBitIdentical) {
   if (!simdSupported(SimdIsa::Avx2)) GTEST_SKIP() << "this CPU has no AVX2";
-  std::mt19937 rng(9);
-  std::normal_distribution<double> g(0, 0.1);
-  test::Points p;
-  for (int n = 0; n < 20000; ++n) p.push_back({float(g(rng)), float(g(rng)), float(0.3 * g(rng))});
+  const test::Points p = gaussianBlob(9, 0.1, 0.3);
   AnisotropicSettings settings;
   settings.spacing = 0.01;
   settings.support = 0.02;
@@ -288,10 +295,7 @@ TEST(ZhuBridson, BlockRasterizerMatchesDirectEvaluation) {
 // bit, so a frame surfaces the same on every CPU.
 TEST(ZhuBridson, Avx2AndBaselineSplatsAreBitIdentical) {
   if (!simdSupported(SimdIsa::Avx2)) GTEST_SKIP() << "this CPU has no AVX2";
-  std::mt19937 rng(5);
-  std::normal_distribution<double> g(0, 0.2);
-  test::Points p;
-  for (int n = 0; n < 20000; ++n) p.push_back({float(g(rng)), float(g(rng)), float(0.5 * g(rng))});
+  const test::Points p = gaussianBlob(5, 0.2, 0.5);
   const double voxel = 0.01, radius = 0.02, search = 0.04, halfWidth = 3;
   const auto base = rasterizeZhuBridsonBlocks(p, voxel, radius, search, halfWidth, SimdIsa::Baseline);
   const auto avx2 = rasterizeZhuBridsonBlocks(p, voxel, radius, search, halfWidth, SimdIsa::Avx2);
