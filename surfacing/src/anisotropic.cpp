@@ -234,8 +234,8 @@ inline __attribute__((always_inline)) void sumMoments(const Candidates& c, float
 void sumMomentsBaseline(const Candidates& c, float px, float py, float pz, float h, LaneSums& s) {
   sumMoments(c, px, py, pz, h, s);
 }
-__attribute__((target("avx2"))) void sumMomentsAvx2(const Candidates& c, float px, float py, float pz,
-                                                    float h, LaneSums& s) {
+SPHFX_TARGET_AVX2 void sumMomentsAvx2(const Candidates& c, float px, float py, float pz, float h,
+                                      LaneSums& s) {
   sumMoments(c, px, py, pz, h, s);
 }
 
@@ -394,9 +394,8 @@ void densityOfBlockBaseline(const openvdb::Coord& b, int reach, const DensityBin
   densityOfBlock(b, reach, bins, splats, acc);
 }
 
-__attribute__((target("avx2"))) void densityOfBlockAvx2(const openvdb::Coord& b, int reach,
-                                                        const DensityBins& bins,
-                                                        const std::vector<Splat>& splats, float* acc) {
+SPHFX_TARGET_AVX2 void densityOfBlockAvx2(const openvdb::Coord& b, int reach, const DensityBins& bins,
+                                          const std::vector<Splat>& splats, float* acc) {
   densityOfBlock(b, reach, bins, splats, acc);
 }
 

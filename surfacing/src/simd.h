@@ -8,9 +8,20 @@ namespace sphfx::surfacing {
 /// tests that check that.
 enum class SimdIsa { Auto, Baseline, Avx2 };
 
+// The attribute of the AVX2 builds. Elsewhere than x86 they compile as plain copies, never chosen.
+#if defined(__x86_64__) || defined(__i386__)
+#define SPHFX_TARGET_AVX2 __attribute__((target("avx2")))
+#else
+#define SPHFX_TARGET_AVX2
+#endif
+
 /// Whether this CPU can run `isa`.
 inline bool simdSupported(SimdIsa isa) {
+#if defined(__x86_64__) || defined(__i386__)
   return isa != SimdIsa::Avx2 || __builtin_cpu_supports("avx2");
+#else
+  return isa != SimdIsa::Avx2;
+#endif
 }
 
 /// Whether a loop built for `isa` should take its AVX2 build.

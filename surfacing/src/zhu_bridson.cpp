@@ -116,10 +116,9 @@ bool gatherBlockBaseline(const openvdb::Coord& b, int reachBlocks, float reach, 
   return gatherBlock(b, reachBlocks, reach, bins, sortedVoxels, acc);
 }
 
-__attribute__((target("avx2"))) bool gatherBlockAvx2(const openvdb::Coord& b, int reachBlocks, float reach,
-                                                     const BlockBins& bins,
-                                                     const std::vector<openvdb::Vec3d>& sortedVoxels,
-                                                     Accumulator& acc) {
+SPHFX_TARGET_AVX2 bool gatherBlockAvx2(const openvdb::Coord& b, int reachBlocks, float reach,
+                                       const BlockBins& bins, const std::vector<openvdb::Vec3d>& sortedVoxels,
+                                       Accumulator& acc) {
   return gatherBlock(b, reachBlocks, reach, bins, sortedVoxels, acc);
 }
 
