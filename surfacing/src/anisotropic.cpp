@@ -187,17 +187,6 @@ struct LaneSums {
   alignas(32) float xx[kLanes], xy[kLanes], xz[kLanes], yy[kLanes], yz[kLanes], zz[kLanes];
 };
 
-// Eight floats as one value (GCC/Clang vector extension): SIMD on any target, as in zhu_bridson.cpp.
-// Every function taking or returning one is inlined (no AVX calling convention, -Wpsabi).
-#pragma GCC diagnostic ignored "-Wpsabi"
-using Float8 = float __attribute__((vector_size(32)));
-
-inline __attribute__((always_inline)) Float8 load8(const float* p) {
-  Float8 v;
-  std::memcpy(&v, p, sizeof v);
-  return v;
-}
-
 inline __attribute__((always_inline)) void sumMoments(const Candidates& c, float px, float py, float pz,
                                                       float h, LaneSums& s) {
   const float h2 = h * h, invH = 1 / h;
@@ -335,10 +324,6 @@ struct DensityBin {
 };
 using DensityBins = std::unordered_map<uint64_t, DensityBin>;
 
-inline __attribute__((always_inline)) void store8(float* p, Float8 v) {
-  std::memcpy(p, &v, sizeof v);
-}
-
 inline __attribute__((always_inline)) void splat(const Splat& k, const openvdb::Coord& origin, float* acc) {
   const int x0 = std::max(origin.x(), k.lo[0]), x1 = std::min(origin.x() + 7, k.hi[0]);
   const int y0 = std::max(origin.y(), k.lo[1]), y1 = std::min(origin.y() + 7, k.hi[1]);
@@ -446,7 +431,8 @@ namespace {
 constexpr float kIso = 0.5f;  // half the density of a full neighbourhood
 
 /// iso - density on the 8^3 blocks that some kernel's box touches (all voxels active), background iso.
-openvdb::FloatGrid::Ptr densityField(const std::vector<AnisotropicKernel>& kernels, double voxelSize) {
+openvdb::FloatGrid::Ptr densityField(const std::vector<AnisotropicKernel>& kernels, double voxelSize,
+                                     SimdIsa isa) {
   using LeafT = openvdb::FloatTree::LeafNodeType;
   // Kernels binned by the 8^3 block holding their centre, in a fixed order (block, then index), each
   // bin with the union of its kernels' voxel boxes.
@@ -497,7 +483,7 @@ openvdb::FloatGrid::Ptr densityField(const std::vector<AnisotropicKernel>& kerne
   blocks.erase(std::unique(blocks.begin(), blocks.end()), blocks.end());
 
   std::vector<std::unique_ptr<LeafT>> leaves(blocks.size());
-  const auto density = useAvx2(SimdIsa::Auto) ? densityOfBlockAvx2 : densityOfBlockBaseline;
+  const auto density = useAvx2(isa) ? densityOfBlockAvx2 : densityOfBlockBaseline;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, blocks.size(), 4), [&](const auto& r) {
     alignas(32) std::array<float, 512> acc;
     for (size_t bi = r.begin(); bi != r.end(); ++bi) {
@@ -522,13 +508,19 @@ openvdb::FloatGrid::Ptr densityField(const std::vector<AnisotropicKernel>& kerne
 openvdb::FloatGrid::Ptr rasterizeAnisotropic(const std::vector<AnisotropicKernel>& kernels, double voxelSize,
                                              double halfWidth,
                                              const std::function<void(const char*)>& stage) {
+  return rasterizeAnisotropic(kernels, voxelSize, halfWidth, stage, SimdIsa::Auto);
+}
+
+openvdb::FloatGrid::Ptr rasterizeAnisotropic(const std::vector<AnisotropicKernel>& kernels, double voxelSize,
+                                             double halfWidth, const std::function<void(const char*)>& stage,
+                                             SimdIsa isa) {
   auto lap = [&](const char* name) {
     if (stage) stage(name);
   };
   using LeafT = openvdb::FloatTree::LeafNodeType;
   if (kernels.empty()) return openvdb::createLevelSet<openvdb::FloatGrid>(voxelSize, halfWidth);
 
-  const auto field = densityField(kernels, voxelSize);
+  const auto field = densityField(kernels, voxelSize, isa);
   lap("density");
   // Only the voxels within halfWidth + 1 (L-infinity) of a crossing of the 1/2 density (a voxel whose
   // face neighbour is on the other side) are needed; voxels of the band beyond the evaluated blocks

@@ -1,5 +1,5 @@
 #pragma once
-// computeAnisotropicKernels with its instruction set chosen (internal: for the test that compares them).
+// The anisotropic functions with their instruction set chosen (internal: for the tests that compare them).
 #include "simd.h"
 #include "sphfx/surfacing/anisotropic.h"
 
@@ -8,5 +8,10 @@ namespace sphfx::surfacing {
 /// computeAnisotropicKernels with the neighbour sums built for `isa` (bit-identical results).
 std::vector<AnisotropicKernel> computeAnisotropicKernels(const std::vector<std::array<float, 3>>& positions,
                                                          const AnisotropicSettings& settings, SimdIsa isa);
+
+/// rasterizeAnisotropic with the density splat built for `isa` (bit-identical results).
+openvdb::FloatGrid::Ptr rasterizeAnisotropic(const std::vector<AnisotropicKernel>& kernels, double voxelSize,
+                                             double halfWidth, const std::function<void(const char*)>& stage,
+                                             SimdIsa isa);
 
 }  // namespace sphfx::surfacing

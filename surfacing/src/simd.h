@@ -1,5 +1,7 @@
 #pragma once
-// The instruction sets the surfacing stage's hot loops are built for (internal).
+// The instruction sets the surfacing stage's hot loops are built for, and their 8-float vector type
+// (internal).
+#include <cstring>
 
 namespace sphfx::surfacing {
 
@@ -27,6 +29,23 @@ inline bool simdSupported(SimdIsa isa) {
 /// Whether a loop built for `isa` should take its AVX2 build.
 inline bool useAvx2(SimdIsa isa) {
   return isa == SimdIsa::Avx2 || (isa == SimdIsa::Auto && simdSupported(SimdIsa::Avx2));
+}
+
+// Eight floats as one value (GCC/Clang vector extension): SIMD on any target, two SSE registers on
+// baseline x86-64 and one in the AVX2 builds, where a plain 8-iteration loop stayed scalar. Every
+// function taking or returning one is inlined, so the AVX calling convention GCC warns about
+// (-Wpsabi) never applies.
+#pragma GCC diagnostic ignored "-Wpsabi"
+using Float8 = float __attribute__((vector_size(32)));
+
+inline __attribute__((always_inline)) Float8 load8(const float* p) {
+  Float8 v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+
+inline __attribute__((always_inline)) void store8(float* p, Float8 v) {
+  std::memcpy(p, &v, sizeof v);
 }
 
 }  // namespace sphfx::surfacing

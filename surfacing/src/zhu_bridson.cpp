@@ -32,26 +32,9 @@ struct Accumulator {
   }
 };
 
-// Eight floats (one z row of a block) as one value: GCC and Clang compile its arithmetic to SIMD on
-// any target: two SSE registers on baseline x86-64, one AVX register in gatherBlockAvx2 below (the
-// plain 8-iteration loop stayed scalar). Without FMA contraction (ISO C++ mode keeps
-// -ffp-contract=off) both compute the same roundings, so the output does not depend on the CPU
-// (tests/surfacing compares the two).
-using Float8 = float __attribute__((vector_size(32)));
-
-// Every function taking or returning a Float8 is inlined, so the AVX calling convention that GCC warns
-// about (-Wpsabi) never applies.
-#pragma GCC diagnostic ignored "-Wpsabi"
-
-inline __attribute__((always_inline)) Float8 load8(const float* p) {
-  Float8 v;
-  std::memcpy(&v, p, sizeof v);
-  return v;
-}
-
-inline __attribute__((always_inline)) void store8(float* p, Float8 v) {
-  std::memcpy(p, &v, sizeof v);
-}
+// A z row of a block is one Float8 (simd.h). Without FMA contraction (ISO C++ mode keeps
+// -ffp-contract=off) the baseline and AVX2 builds of gatherBlock compute the same roundings, so the
+// output does not depend on the CPU (tests/surfacing compares the two).
 
 /// Adds the kernel of the particle at `p` (index space, relative to the block's first voxel).
 /// Each (x, y) row within reach is evaluated on all 8 of its z voxels at once, without bounds: a

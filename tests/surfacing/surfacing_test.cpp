@@ -231,8 +231,9 @@ test::Points gaussianBlob(unsigned seed, double sigma, double zScale) {
   return p;
 }
 
-// The anisotropic kernels' neighbour sums built for AVX2 and for the baseline: identical kernels.
-TEST(Anisotropic, Avx2AndBaselineKernelsAreBitIdentical) {
+// The anisotropic kernels' neighbour sums and density splat built for AVX2 and for the baseline:
+// identical kernels and level sets.
+TEST(Anisotropic, Avx2AndBaselineKernelsAndDensityAreBitIdentical) {
   if (!simdSupported(SimdIsa::Avx2)) GTEST_SKIP() << "this CPU has no AVX2";
   const test::Points p = gaussianBlob(9, 0.1, 0.3);
   AnisotropicSettings settings;
@@ -247,6 +248,18 @@ TEST(Anisotropic, Avx2AndBaselineKernelsAreBitIdentical) {
     stretched += base[i].metric[0] != base[i].metric[3];
   }
   EXPECT_GT(stretched, 1000u);  // anisotropic kernels were compared, not only isolated spheres
+  // The density splat's two builds, from these kernels: the same level set, bit for bit.
+  const auto gridBase = rasterizeAnisotropic(base, 0.005, 3, {}, SimdIsa::Baseline);
+  const auto gridAvx2 = rasterizeAnisotropic(base, 0.005, 3, {}, SimdIsa::Avx2);
+  ASSERT_GT(gridBase->activeVoxelCount(), 10000u);
+  ASSERT_EQ(gridBase->tree().leafCount(), gridAvx2->tree().leafCount());
+  for (auto it = gridBase->tree().cbeginLeaf(); it; ++it) {
+    const auto* other = gridAvx2->tree().probeConstLeaf(it->origin());
+    ASSERT_NE(other, nullptr) << it->origin();
+    EXPECT_TRUE(it->getValueMask() == other->getValueMask()) << it->origin();
+    EXPECT_EQ(std::memcmp(it->buffer().data(), other->buffer().data(), sizeof(float) * it->SIZE), 0)
+        << it->origin();
+  }
 }
 
 // The block rasterizer against the Zhu-Bridson formula evaluated directly (doubles, every particle).
