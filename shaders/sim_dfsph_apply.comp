@@ -10,22 +10,21 @@
 #include "sph_kernels.glsl"
 #include "sph_dfsph.glsl"
 layout(local_size_x = SIM_WG) in;
-layout(std430, binding = SPHFX_SSBO_SIM_POS) readonly buffer SimPos { vec4 pos[]; };
-layout(std430, binding = SPHFX_SSBO_SIM_VEL) buffer SimVel { vec4 vel[]; };
+layout(std430, binding = SPHFX_SSBO_SIM_VEL) writeonly buffer SimVel { vec4 vel[]; };
 layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_INCREMENT) readonly buffer DfsphIncrement { float increment[]; };
 #if defined(DFSPH_DIVERGENCE)
 layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_WARM) writeonly buffer DfsphWarm { float warm[]; };
 #else
-layout(std430, binding = SPHFX_SSBO_SIM_DENSITY) buffer SimDensity { vec2 densityPressure[]; };
+layout(std430, binding = SPHFX_SSBO_SIM_DENSITY) writeonly buffer SimDensity { vec2 densityPressure[]; };
 #endif
 
 // -sum_j (k_i + k_j) m grad W_ij - k_i sum_b psi_b grad W_ib, from the list.
 vec3 velocityChange(uint i, float ki) {
-  uint n = simCounts.x, count = dfCount[i];
-  vec3 dv = -ki * dfBoundary[i].xyz;
+  uint count = dfsphCount(i);
+  vec3 dv = -ki * dfsphBoundary(i).xyz;
   for (uint k = 0u; k < count; ++k) {
-    vec4 e = dfNbr[k * n + i];
-    dv -= (ki + increment[floatBitsToUint(e.w)]) * e.xyz;
+    vec4 e = dfsphEntry(i, k);
+    dv -= (ki + dfsphIncrement(floatBitsToUint(e.w))) * e.xyz;
   }
   return dv;
 }
@@ -33,19 +32,20 @@ vec3 velocityChange(uint i, float ki) {
 void main() {
   uint i = sphfxGlobalIndex();
   if (i >= simCounts.x) return;
-  float ki = increment[i];
+  float ki = dfsphIncrement(i);
   vec3 dv = velocityChange(i, ki);
+  vec4 v = sphFetchVel(i), f = dfsphParticle(i);
 #if defined(DFSPH_DIVERGENCE)
-  vel[i] = vec4(vel[i].xyz + dv, vel[i].w);
-  float total = dfsph[i].w + ki;
+  vel[i] = vec4(v.xyz + dv, v.w);
+  float total = f.w + ki;
   dfsph[i].w = total;
-  warm[floatBitsToUint(pos[i].w)] = total;
+  warm[floatBitsToUint(sphFetchPos(i).w)] = total;
 #else
-  float total = dfsph[i].z + ki;
+  float total = f.z + ki;
   dfsph[i].z = total;
-  vel[i] = vec4(vel[i].xyz + stateDt * dv, total);
+  vel[i] = vec4(v.xyz + stateDt * dv, total);
   // The cache's pressure (p / rho^2): both solves support the fluid, the divergence solve by a velocity
   // impulse K per step, i.e. the pressure acceleration K / dt.
-  densityPressure[i].y = total + dfsph[i].w / stateDt;
+  densityPressure[i].y = total + f.w / stateDt;
 #endif
 }

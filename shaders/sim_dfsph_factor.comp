@@ -9,14 +9,6 @@
 #include "sph_kernels.glsl"
 #include "sph_dfsph.glsl"
 layout(local_size_x = SIM_WG) in;
-layout(std430, binding = SPHFX_SSBO_SIM_POS) readonly buffer SimPos { vec4 pos[]; };
-layout(std430, binding = SPHFX_SSBO_SIM_VEL) readonly buffer SimVel { vec4 vel[]; };
-layout(std430, binding = SPHFX_SSBO_SIM_CELL_START) readonly buffer SimCellStart { uint cellStart[]; };
-layout(std430, binding = SPHFX_SSBO_SIM_BOUNDARY_POS) readonly buffer SimBoundaryPos { vec4 bpos[]; };
-layout(std430, binding = SPHFX_SSBO_SIM_BOUNDARY_VEL) readonly buffer SimBoundaryVel { vec4 bvel[]; };
-layout(std430, binding = SPHFX_SSBO_SIM_BOUNDARY_CELL_START) readonly buffer SimBoundaryStart {
-  uint bStart[];
-};
 layout(std430, binding = SPHFX_SSBO_SIM_DENSITY) writeonly buffer SimDensity { vec2 densityPressure[]; };
 shared uint groupMaxDensity;
 
@@ -26,7 +18,7 @@ void main() {
   if (gl_LocalInvocationIndex == 0u) groupMaxDensity = 0u;
   barrier();
   if (live) {
-    vec3 xi = pos[i].xyz;
+    vec3 xi = sphFetchPos(i).xyz;
     ivec3 cell = sphCell(xi);
     uint n = simCounts.x, listed = 0u;
     float m = simGravity.w, fluid = 0.0, wall = 0.0, squares = 0.0, boundaryNeighbours = 0.0;
@@ -36,28 +28,32 @@ void main() {
       for (int dy = -1; dy <= 1; ++dy) {
         uint first, last;
         if (!sphRow(cell, dy, dz, first, last)) continue;
-        for (uint j = cellStart[first], e = cellStart[last]; j < e; ++j) {
-          vec3 d = xi - pos[j].xyz;
+        // No branch per candidate: the kernels are 0 beyond h (and the gradient at r = 0), and every
+        // candidate is written to the next free slot, which only a neighbour advances (the slot after
+        // the last neighbour holds a stale candidate; the list has one spare slot for it). On llvmpipe a
+        // candidate test that branched per lane cost more than the arithmetic and stores it skipped:
+        // whether a candidate is a neighbour is unpredictable (docs/dfsph.md, "Texel fetches").
+        for (uint j = sphFetchCellStart(first), e = sphFetchCellStart(last); j < e; ++j) {
+          vec3 d = xi - sphFetchPos(j).xyz;
           float r2 = dot(d, d);
-          if (r2 >= simKernel.w) continue;
           fluid += sphPoly6(r2);
-          if (j == i) continue;
           vec3 g = m * dfsphGrad(d);
           gradSum += g;
           squares += dot(g, g);
-          if (listed < uint(DFSPH_MAX_NEIGHBORS)) dfNbr[listed * n + i] = vec4(g, uintBitsToFloat(j));
-          ++listed;
+          dfNbr[min(listed, uint(DFSPH_MAX_NEIGHBORS)) * n + i] = vec4(g, uintBitsToFloat(j));
+          listed += (r2 < simKernel.w && j != i) ? 1u : 0u;
         }
-        for (uint j = bStart[first], e = bStart[last]; j < e; ++j) {
-          vec4 b = bpos[j];
+        for (uint j = sphFetchBoundaryCellStart(first), e = sphFetchBoundaryCellStart(last); j < e; ++j) {
+          vec4 b = sphFetchBoundaryPos(j);
           vec3 d = xi - b.xyz;
           float r2 = dot(d, d);
-          if (r2 >= simKernel.w) continue;
           wall += b.w * sphPoly6(r2);
           vec3 g = b.w * dfsphGrad(d);
           wallGrad += g;
-          wallVelocity += dot(bvel[j].xyz, g);
-          boundaryNeighbours += 1.0;
+#if defined(HAS_COLLIDERS)
+          wallVelocity += dot(sphFetchBoundaryVel(j).xyz, g);  // walls are at rest, colliders move
+#endif
+          boundaryNeighbours += r2 < simKernel.w ? 1.0 : 0.0;
         }
       }
     if (listed > uint(DFSPH_MAX_NEIGHBORS)) atomicOr(stateFailure, SIM_FAIL_NEIGHBORS);
@@ -67,7 +63,7 @@ void main() {
     vec3 g = gradSum + wallGrad;
     float denom = dot(g, g) + squares;
     dfsph[i] = vec4(denom > 1e-6 ? 1.0 / denom : 0.0, float(listed) + boundaryNeighbours, 0.0, 0.0);
-    densityPressure[i] = vec2(rho, vel[i].w);
+    densityPressure[i] = vec2(rho, sphFetchVel(i).w);
     atomicMax(groupMaxDensity, floatBitsToUint(rho));
   }
   barrier();

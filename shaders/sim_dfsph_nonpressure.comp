@@ -1,20 +1,13 @@
 // DFSPH non-pressure accelerations: gravity and viscosity (the WCSPH force pass's models without its
-// pressure term), evaluated on the divergence-free velocities. Reduces max |v|^2 and max |a|^2 of these
+// pressure term), evaluated on the divergence-free velocities, plus the constant-density solve's warm
+// start as a pressure acceleration (sim_dfsph_source.comp). Reduces max |v|^2 and max |a|^2 of these
 // accelerations for the displacement-bounded CFL step (sim_timestep.comp).
 #define DFSPH_LIST_READ
 #include "sph_params.glsl"
 #include "sph_kernels.glsl"
 #include "sph_dfsph.glsl"
 layout(local_size_x = SIM_WG) in;
-layout(std430, binding = SPHFX_SSBO_SIM_POS) readonly buffer SimPos { vec4 pos[]; };
-layout(std430, binding = SPHFX_SSBO_SIM_VEL) readonly buffer SimVel { vec4 vel[]; };
-layout(std430, binding = SPHFX_SSBO_SIM_DENSITY) readonly buffer SimDensity { vec2 densityPressure[]; };
 layout(std430, binding = SPHFX_SSBO_SIM_ACCEL) writeonly buffer SimAccel { vec4 accel[]; };
-layout(std430, binding = SPHFX_SSBO_SIM_BOUNDARY_POS) readonly buffer SimBoundaryPos { vec4 bpos[]; };
-layout(std430, binding = SPHFX_SSBO_SIM_BOUNDARY_VEL) readonly buffer SimBoundaryVel { vec4 bvel[]; };
-layout(std430, binding = SPHFX_SSBO_SIM_BOUNDARY_CELL_START) readonly buffer SimBoundaryStart {
-  uint bStart[];
-};
 shared uint groupMaxSpeed2, groupMaxAccel2;
 
 #if defined(VISCOSITY_ARTIFICIAL)
@@ -27,45 +20,60 @@ float artificialViscosity(vec3 vij, vec3 xij, float r2, float rhoSum) {
 }
 #endif
 
-// Fluid neighbours from the substep's list (its entries hold m grad W), boundary samples from the grid
-// (only rows near walls and colliders hold any).
-vec3 viscosity(uint i, vec3 xi, vec3 vi, float rhoi) {
-  vec3 fluid = vec3(0.0), wall = vec3(0.0);
-#if defined(VISCOSITY_ARTIFICIAL) || defined(VISCOSITY_LAPLACIAN)
-  uint n = simCounts.x, count = dfCount[i];
+// Viscosity and the warm-started pressure acceleration of particle i. Fluid neighbours come from the
+// substep's list (its entries hold m grad W), boundary samples from the grid (only rows near walls and
+// colliders hold any). `pressure` is the constant-density solve's warm start as an acceleration,
+// -sum_j (P_i + P_j) m grad W_ij - P_i sum_b psi_b grad W_ib with P = DFSPH_DENSITY_WARM_SHARE times the
+// last substep's total (vel.w): what the solve's warm pass used to apply in a list pass of its own
+// (sim_dfsph_source.comp then only predicts v* = v + dt a).
+void viscosityAndWarmPressure(uint i, vec3 xi, vec3 vi, float rhoi, float pi, out vec3 visc,
+                              out vec3 pressure) {
+  vec3 fluid = vec3(0.0), wall = vec3(0.0), push = -pi * dfsphBoundary(i).xyz;
+  uint count = dfsphCount(i);
   for (uint k = 0u; k < count; ++k) {
-    vec4 e = dfNbr[k * n + i];
+    vec4 e = dfsphEntry(i, k);
     uint j = floatBitsToUint(e.w);
-    vec3 d = xi - pos[j].xyz;
+    vec4 vj = sphFetchVel(j);
+    push -= (pi + DFSPH_DENSITY_WARM_SHARE * vj.w) * e.xyz;
+#if defined(VISCOSITY_ARTIFICIAL) || defined(VISCOSITY_LAPLACIAN)
+    vec3 d = xi - sphFetchPos(j).xyz;
 #if defined(VISCOSITY_ARTIFICIAL)
-    fluid -= artificialViscosity(vi - vel[j].xyz, d, dot(d, d), rhoi + densityPressure[j].x) * e.xyz;
+    fluid -= artificialViscosity(vi - vj.xyz, d, dot(d, d), rhoi + sphFetchDensity(j).x) * e.xyz;
 #else
-    fluid += (simViscosity.x / densityPressure[j].x * simGravity.w * sphViscosityLaplacian(length(d))) *
-             (vel[j].xyz - vi);
+    fluid += (simViscosity.x / sphFetchDensity(j).x * simGravity.w * sphViscosityLaplacian(length(d))) *
+             (vj.xyz - vi);
+#endif
 #endif
   }
+#if defined(VISCOSITY_ARTIFICIAL) || defined(VISCOSITY_LAPLACIAN)
   ivec3 cell = sphCell(xi);
   for (int dz = -1; dz <= 1; ++dz)
     for (int dy = -1; dy <= 1; ++dy) {
       uint first, last;
       if (!sphRow(cell, dy, dz, first, last)) continue;
-      for (uint j = bStart[first], e = bStart[last]; j < e; ++j) {
-        vec4 b = bpos[j];
+      for (uint j = sphFetchBoundaryCellStart(first), e = sphFetchBoundaryCellStart(last); j < e; ++j) {
+        vec4 b = sphFetchBoundaryPos(j);
         vec3 d = xi - b.xyz;
         float r2 = dot(d, d);
         if (r2 >= simKernel.w) continue;
         float r = sqrt(r2);
+#if defined(HAS_COLLIDERS)
+        vec3 vb = sphFetchBoundaryVel(j).xyz;
+#else
+        const vec3 vb = vec3(0.0);  // walls are at rest; only colliders move
+#endif
 #if defined(VISCOSITY_ARTIFICIAL)
-        wall -= b.w * artificialViscosity(vi - bvel[j].xyz, d, r2, 2.0 * rhoi) * sphSpikyGrad(d, r);
+        wall -= b.w * artificialViscosity(vi - vb, d, r2, 2.0 * rhoi) * sphSpikyGrad(d, r);
 #else
         // As a fluid neighbour of mass psi_b and density rho_i at the wall's velocity (no slip), as in
         // sim_force.comp.
-        wall += (b.w * simViscosity.x / rhoi * sphViscosityLaplacian(r)) * (bvel[j].xyz - vi);
+        wall += (b.w * simViscosity.x / rhoi * sphViscosityLaplacian(r)) * (vb - vi);
 #endif
       }
     }
 #endif
-  return fluid + wall;
+  visc = fluid + wall;
+  pressure = push;
 }
 
 void main() {
@@ -77,9 +85,12 @@ void main() {
   }
   barrier();
   if (live) {
-    vec3 xi = pos[i].xyz, vi = vel[i].xyz;
-    vec3 a = simGravity.xyz + viscosity(i, xi, vi, densityPressure[i].x);
-    accel[i] = vec4(a, 0.0);
+    vec4 v = sphFetchVel(i);
+    vec3 xi = sphFetchPos(i).xyz, vi = v.xyz, visc, pressure;
+    viscosityAndWarmPressure(i, xi, vi, sphFetchDensity(i).x, DFSPH_DENSITY_WARM_SHARE * v.w, visc, pressure);
+    // The time step bounds the non-pressure acceleration only (the solve decides the pressure).
+    vec3 a = simGravity.xyz + visc;
+    accel[i] = vec4(a + pressure, 0.0);
     atomicMax(groupMaxSpeed2, floatBitsToUint(dot(vi, vi)));
     atomicMax(groupMaxAccel2, floatBitsToUint(dot(a, a)));
   }

@@ -4,23 +4,22 @@
 //   DFSPH_DIVERGENCE: residual D rho / Dt of the current velocities; increment residual * factor.
 //   otherwise: predicted density rho* = rho + dt D rho / Dt of the predicted velocities v*, residual
 //   rho* - rho0; increment residual * factor / dt^2.
-// uWarm: the first pass of a solve: the increment is a share (DFSPH_WARM_SHARE) of the last substep's
-// stiffness total (warm start). The density solve's warm pass also predicts v* = v + dt a into vel and
-// zeroes a, so that its iterations read one velocity per neighbour, not a velocity and an acceleration
-// (sim_integrate.comp's v + dt a is then v*).
+// uWarm: the first pass of a solve, the warm start from a share (DFSPH_WARM_SHARE) of the last substep's
+// stiffness total. Divergence solve: the share is the increment, applied by an apply pass. Density
+// solve: the non-pressure pass has already added the share's pressure acceleration to a; the warm pass
+// predicts v* = v + dt a into vel, zeroes a (its iterations then read one velocity per neighbour, and
+// sim_integrate.comp's v + dt a is v*) and records the share as the total; no apply pass follows.
 #define DFSPH_LIST_READ
 #include "sph_params.glsl"
 #include "sph_kernels.glsl"
 #include "sph_dfsph.glsl"
 layout(local_size_x = SIM_WG) in;
-layout(std430, binding = SPHFX_SSBO_SIM_POS) readonly buffer SimPos { vec4 pos[]; };
-#if defined(DFSPH_DIVERGENCE)
-layout(std430, binding = SPHFX_SSBO_SIM_VEL) readonly buffer SimVel { vec4 vel[]; };
-#else
+#if !defined(DFSPH_DIVERGENCE)
+// Written by the density solve's warm pass only (reads go through sph_textures.glsl).
 layout(std430, binding = SPHFX_SSBO_SIM_VEL) buffer SimVel { vec4 vel[]; };
 layout(std430, binding = SPHFX_SSBO_SIM_ACCEL) buffer SimAccel { vec4 accel[]; };
+layout(std430, binding = SPHFX_SSBO_SIM_DENSITY) writeonly buffer SimDensity { vec2 densityPressure[]; };
 #endif
-layout(std430, binding = SPHFX_SSBO_SIM_DENSITY) readonly buffer SimDensity { vec2 densityPressure[]; };
 layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_INCREMENT) writeonly buffer DfsphIncrement { float increment[]; };
 layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_PARTIAL) writeonly buffer DfsphPartial { float partial[]; };
 #if defined(DFSPH_DIVERGENCE)
@@ -31,14 +30,14 @@ shared float groupSum[SIM_WG];
 
 // D rho_i / Dt = sum_j m (v_i - v_j) . grad W_ij + sum_b psi_b (v_i - v_b) . grad W_ib, from the list.
 float densityChange(uint i) {
-  vec3 vi = vel[i].xyz;
-  uint n = simCounts.x, count = dfCount[i];
+  vec3 vi = sphFetchVel(i).xyz;
+  uint count = dfsphCount(i);
   float fluid = 0.0;
   for (uint k = 0u; k < count; ++k) {
-    vec4 e = dfNbr[k * n + i];
-    fluid += dot(vi - vel[floatBitsToUint(e.w)].xyz, e.xyz);
+    vec4 e = dfsphEntry(i, k);
+    fluid += dot(vi - sphFetchVel(floatBitsToUint(e.w)).xyz, e.xyz);
   }
-  vec4 b = dfBoundary[i];
+  vec4 b = dfsphBoundary(i);
   return fluid + dot(vi, b.xyz) - b.w;
 }
 
@@ -55,30 +54,34 @@ void main() {
   uint i = sphfxGlobalIndex();
   float error = 0.0;
   if (i < simCounts.x) {
-    vec4 f = dfsph[i];
+    vec4 f = dfsphParticle(i);
     float inc;
 #if defined(DFSPH_DIVERGENCE)
     // Warm start (no residual: the warm pass is not reduced): a share of the last substep's total. The
     // first substep of a frame starts cold, so that a restart file (positions, velocities) resumes
     // bit-identically.
     if (uWarm != 0u) {
-      inc = stateSubsteps > 0u ? DFSPH_WARM_SHARE * warm[floatBitsToUint(pos[i].w)] : 0.0;
+      inc = stateSubsteps > 0u ? DFSPH_WARM_SHARE * warm[floatBitsToUint(sphFetchPos(i).w)] : 0.0;
     } else {
       // Too few neighbours (free surface, splashes): the divergence estimate is meaningless there.
       float residual = f.y >= DFSPH_MIN_NEIGHBOURS ? densityChange(i) : 0.0;
       inc = projectedIncrement(residual, f.x, f.w, error);
     }
 #else
-    // Warm start: a share of the last substep's pressure total, carried in vel.w; v* = v + dt a (only
-    // particle i is touched: the warm pass reads no neighbour).
+    // Warm start: a share of the last substep's pressure total, carried in vel.w. The non-pressure pass
+    // already added its pressure acceleration to a, so v* = v + dt a is the warm-started prediction and
+    // no apply pass follows (only particle i is touched: the warm pass reads no neighbour).
     if (uWarm != 0u) {
       vec4 v = vel[i];
-      vel[i] = vec4(v.xyz + stateDt * accel[i].xyz, v.w);
+      float total = DFSPH_WARM_SHARE * v.w;
+      vel[i] = vec4(v.xyz + stateDt * accel[i].xyz, total);
       accel[i] = vec4(0.0);
-      inc = DFSPH_WARM_SHARE * v.w;
+      dfsph[i].z = total;
+      densityPressure[i].y = total + f.w / stateDt;
+      inc = 0.0;
     } else {
       float dt = stateDt;
-      float residual = densityPressure[i].x + dt * densityChange(i) - simFluid.x;
+      float residual = sphFetchDensity(i).x + dt * densityChange(i) - simFluid.x;
       inc = projectedIncrement(residual, f.x / (dt * dt), f.z, error);
     }
 #endif

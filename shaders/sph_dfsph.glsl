@@ -4,6 +4,7 @@
 // pressure acceleration is -m sum (P_i + P_j) grad W), the divergence solver's total changes velocities
 // by -m sum (K_i + K_j) grad W. Both are independent of the time step, so they warm-start the next step.
 #include "sph_dfsph_bindings.glsl"
+#include "sph_textures.glsl"
 
 // x: alpha_i / rho_i = 1 / (|sum m grad W|^2 + sum |m grad W|^2), y: neighbours (fluid and boundary),
 // z: density stiffness total P of this step, w: divergence stiffness total K of this step.
@@ -33,18 +34,30 @@ layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_CONTROL) buffer DfsphControl {
 
 // Neighbour lists, built once per substep by sim_dfsph_factor.comp and read by every solver iteration,
 // so that an iteration visits the ~30 neighbours of a particle instead of the ~200 candidates of its
-// 27 cells, and evaluates no kernel. Slot k of sorted particle i is entry k * N + i (adjacent
-// invocations read adjacent entries). DFSPH_MAX_NEIGHBORS slots per particle (sized from the scene's
-// packing, DFSPHSolver::listSlots); a particle with more fluid neighbours stops the run with a clear
-// error (SIM_FAIL_NEIGHBORS) rather than losing neighbours.
+// 27 cells, and evaluates no kernel. The writer (sim_dfsph_factor.comp) uses the storage blocks below,
+// the readers the buffer-texture views (dfsphEntry() etc.). Slot k of sorted particle i is entry
+// k * N + i (adjacent invocations read adjacent entries). DFSPH_MAX_NEIGHBORS slots per particle (sized
+// from the scene's packing, DFSPHSolver::listSlots) and one spare (the factor pass writes every
+// candidate to the slot after the last neighbour); a particle with more fluid neighbours stops the run
+// with a clear error (SIM_FAIL_NEIGHBORS) rather than losing neighbours.
 //   dfNbr[k * N + i]: xyz = m grad W(x_i - x_j), w = j (uint bits)
 //   dfCount[i]: fluid neighbours of i in the list
 //   dfBoundary[i]: xyz = sum_b psi_b grad W(x_i - x_b), w = sum_b psi_b v_b . grad W(x_i - x_b)
 //     (boundary samples do not move during a substep, so their sums are constant in the solves)
 #if defined(DFSPH_LIST_READ)
-layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_NEIGHBORS) readonly buffer DfsphNeighbors { vec4 dfNbr[]; };
-layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_COUNT) readonly buffer DfsphCount { uint dfCount[]; };
-layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_BOUNDARY) readonly buffer DfsphBoundary { vec4 dfBoundary[]; };
+// The list entries and the increments are read per neighbour, through texel fetches (sph_textures.glsl).
+layout(binding = SPHFX_TEX_SIM_DFSPH_NEIGHBORS) uniform samplerBuffer dfNbrTex;
+layout(binding = SPHFX_TEX_SIM_DFSPH_INCREMENT) uniform samplerBuffer dfIncrementTex;
+layout(binding = SPHFX_TEX_SIM_DFSPH_PARTICLE) uniform samplerBuffer dfParticleTex;
+layout(binding = SPHFX_TEX_SIM_DFSPH_COUNT) uniform usamplerBuffer dfCountTex;
+layout(binding = SPHFX_TEX_SIM_DFSPH_BOUNDARY) uniform samplerBuffer dfBoundaryTex;
+vec4 dfsphEntry(uint i, uint k) { return texelFetch(dfNbrTex, int(k * simCounts.x + i)); }
+float dfsphIncrement(uint j) { return texelFetch(dfIncrementTex, int(j)).x; }
+// Per-particle values read through the views too (one gather instead of a load per lane on llvmpipe;
+// a pass may read its own particle's value this way before writing it through the storage block).
+vec4 dfsphParticle(uint i) { return texelFetch(dfParticleTex, int(i)); }
+uint dfsphCount(uint i) { return texelFetch(dfCountTex, int(i)).x; }
+vec4 dfsphBoundary(uint i) { return texelFetch(dfBoundaryTex, int(i)); }
 #elif defined(DFSPH_LIST_WRITE)
 layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_NEIGHBORS) writeonly buffer DfsphNeighbors { vec4 dfNbr[]; };
 layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_COUNT) writeonly buffer DfsphCount { uint dfCount[]; };

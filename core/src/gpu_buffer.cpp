@@ -1,7 +1,10 @@
 #include "sphfx/core/gpu_buffer.h"
 
+#include <fmt/format.h>
+
 #include <utility>
 
+#include "sphfx/core/error.h"
 #include "sphfx/core/gl.h"
 #include "sphfx/core/gl_context.h"
 
@@ -12,17 +15,30 @@ GpuBuffer::GpuBuffer(size_t bytes) {
 }
 
 GpuBuffer::~GpuBuffer() {
+  release();
+}
+
+void GpuBuffer::release() {
+  if (texture_) glDeleteTextures(1, &texture_);
   if (id_) glDeleteBuffers(1, &id_);
+  texture_ = id_ = 0;
 }
 
 GpuBuffer::GpuBuffer(GpuBuffer&& other) noexcept
-    : id_(std::exchange(other.id_, 0)), bytes_(std::exchange(other.bytes_, 0)) {}
+    : id_(std::exchange(other.id_, 0)),
+      bytes_(std::exchange(other.bytes_, 0)),
+      texture_(std::exchange(other.texture_, 0)),
+      textureFormat_(std::exchange(other.textureFormat_, 0)),
+      textureBytes_(std::exchange(other.textureBytes_, 0)) {}
 
 GpuBuffer& GpuBuffer::operator=(GpuBuffer&& other) noexcept {
   if (this != &other) {
-    if (id_) glDeleteBuffers(1, &id_);
+    release();
     id_ = std::exchange(other.id_, 0);
     bytes_ = std::exchange(other.bytes_, 0);
+    texture_ = std::exchange(other.texture_, 0);
+    textureFormat_ = std::exchange(other.textureFormat_, 0);
+    textureBytes_ = std::exchange(other.textureBytes_, 0);
   }
   return *this;
 }
@@ -65,6 +81,43 @@ void GpuBuffer::bindStorage(uint32_t binding) const {
 
 void GpuBuffer::bindUniform(uint32_t binding) const {
   glBindBufferBase(GL_UNIFORM_BUFFER, binding, id_);
+}
+
+namespace {
+
+size_t texelBytes(uint32_t format) {
+  switch (format) {
+    case GL_RGBA32F:
+      return 16;
+    case GL_RG32F:
+      return 8;
+    case GL_R32F:
+    case GL_R32UI:
+      return 4;
+    default:
+      throw GLError(fmt::format("GpuBuffer::bindTexture: unsupported texel format 0x{:x}", format));
+  }
+}
+
+}  // namespace
+
+void GpuBuffer::bindTexture(uint32_t unit, uint32_t format) const {
+  if (!texture_) glGenTextures(1, &texture_);
+  glActiveTexture(GL_TEXTURE0 + unit);
+  glBindTexture(GL_TEXTURE_BUFFER, texture_);
+  if (format != textureFormat_ || bytes_ != textureBytes_) {
+    const size_t texels = bytes_ / texelBytes(format);
+    GLint limit = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &limit);
+    if (texels > size_t(limit))
+      throw GLError(fmt::format(
+          "a buffer of {} texels is larger than this GL's GL_MAX_TEXTURE_BUFFER_SIZE ({})", texels, limit));
+    glTexBuffer(GL_TEXTURE_BUFFER, format, id_);
+    textureFormat_ = format;
+    textureBytes_ = bytes_;
+  }
+  glActiveTexture(GL_TEXTURE0);
+  glCheck("GpuBuffer::bindTexture");
 }
 
 }  // namespace sphfx

@@ -1,5 +1,7 @@
 #include "sphfx/sim/dfsph_solver.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
@@ -7,6 +9,7 @@
 
 #include "bindings.h"
 #include "sph_dfsph_bindings.glsl"
+#include "sphfx/core/error.h"
 #include "sphfx/core/gl.h"
 #include "sphfx/core/gl_context.h"
 #include "sphfx/sim/gpu_types.h"
@@ -31,6 +34,11 @@ int latticeNeighbours(double q) {
 
 ShaderDefines withSlots(ShaderDefines d, int slots) {
   d.set("DFSPH_MAX_NEIGHBORS", slots);
+  return d;
+}
+
+ShaderDefines withDensityWarmShare(ShaderDefines d) {
+  d.set("DFSPH_DENSITY_WARM_SHARE", float(DFSPHSolver::kDensityWarmShare));
   return d;
 }
 
@@ -62,11 +70,13 @@ DFSPHSolver::DFSPHSolver(const Scene& scene, const DispatchGate& gate, const Sha
       warm_(size_t(std::max<uint32_t>(particles, 1)) * 4),
       partial_(size_t(groups_) * 4),
       control_(sizeof(DfsphControl)),
-      neighbors_(size_t(std::max<uint32_t>(particles, 1)) * 16 * size_t(listSlots_)),
+      // One spare slot: sim_dfsph_factor.comp writes every candidate to the slot after the last neighbour.
+      neighbors_(size_t(std::max<uint32_t>(particles, 1)) * 16 * size_t(listSlots_ + 1)),
       boundary_(size_t(std::max<uint32_t>(particles, 1)) * 16),
       count_(size_t(std::max<uint32_t>(particles, 1)) * 4),
       factor_(ShaderProgram::compute("sim_dfsph_factor.comp", withSlots(defines, listSlots_))),
-      nonPressure_(ShaderProgram::compute("sim_dfsph_nonpressure.comp", defines)) {
+      nonPressure_(ShaderProgram::compute("sim_dfsph_nonpressure.comp", withDensityWarmShare(defines))) {
+  checkListFitsTextureView();
   density_ = makeSolve(defines, false, scene.solver.maxDensityError, 0);
   divergence_ = makeSolve(defines, true, scene.solver.maxDivergenceError, 3 * DispatchGate::kParticleEntry);
   DfsphControl c{};
@@ -94,6 +104,20 @@ DFSPHSolver::Solve DFSPHSolver::makeSolve(ShaderDefines d, bool divergence, doub
       ShaderProgram::compute("sim_dfsph_reduce.comp", d), ShaderProgram::compute("sim_dfsph_apply.comp", d)};
 }
 
+// The iterations read the lists through a buffer texture (sph_dfsph.glsl), whose size is limited in
+// texels; say so by name before the first substep rather than from a bind inside it.
+void DFSPHSolver::checkListFitsTextureView() const {
+  GLint limit = 0;
+  glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &limit);
+  const size_t texels = neighbors_.size() / 16;
+  if (texels > size_t(limit))
+    throw GLError(
+        fmt::format("the DFSPH neighbour lists need {} texels ({} particles x {} slots), more than "
+                    "this GL's GL_MAX_TEXTURE_BUFFER_SIZE ({}): use fewer particles, or "
+                    "fluid.packing 1 (fewer slots)",
+                    texels, particles_, listSlots_ + 1, limit));
+}
+
 void DFSPHSolver::bind() const {
   particle_.bindStorage(SPHFX_SSBO_SIM_DFSPH_PARTICLE);
   increment_.bindStorage(SPHFX_SSBO_SIM_DFSPH_INCREMENT);
@@ -101,6 +125,11 @@ void DFSPHSolver::bind() const {
   partial_.bindStorage(SPHFX_SSBO_SIM_DFSPH_PARTIAL);
   control_.bindStorage(SPHFX_SSBO_SIM_DFSPH_CONTROL);
   neighbors_.bindStorage(SPHFX_SSBO_SIM_DFSPH_NEIGHBORS);
+  neighbors_.bindTexture(SPHFX_TEX_SIM_DFSPH_NEIGHBORS, GL_RGBA32F);
+  increment_.bindTexture(SPHFX_TEX_SIM_DFSPH_INCREMENT, GL_R32F);
+  particle_.bindTexture(SPHFX_TEX_SIM_DFSPH_PARTICLE, GL_RGBA32F);
+  count_.bindTexture(SPHFX_TEX_SIM_DFSPH_COUNT, GL_R32UI);
+  boundary_.bindTexture(SPHFX_TEX_SIM_DFSPH_BOUNDARY, GL_RGBA32F);
   boundary_.bindStorage(SPHFX_SSBO_SIM_DFSPH_BOUNDARY);
   count_.bindStorage(SPHFX_SSBO_SIM_DFSPH_COUNT);
 }
@@ -142,7 +171,8 @@ void DFSPHSolver::run(const Solve& s, const char* label, PassTimer& timer) const
   const GLint warm = s.source.uniform("uWarm");
   glProgramUniform1ui(s.source.id(), warm, 1u);
   dispatch(s.source, kSourceEntry, "sim_dfsph_source.comp");
-  dispatch(s.apply, kApplyEntry, "sim_dfsph_apply.comp");
+  // The density solve's warm start was applied as an acceleration by the non-pressure pass.
+  if (&s == &divergence_) dispatch(s.apply, kApplyEntry, "sim_dfsph_apply.comp");
   glProgramUniform1ui(s.source.id(), warm, 0u);
   // maxIterations_ + 1 reductions: the last one records a solve that ran out of iterations.
   for (int it = 0; it <= maxIterations_;) {

@@ -39,7 +39,8 @@ void DispatchGate::dispatch(uint32_t entry, const char* label) const {
 }
 
 void storageBarrier() {
-  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  // Texel fetches too: neighbour loops read the buffers through buffer textures (sph_textures.glsl).
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
 }
 
 }  // namespace sphfx::sim

@@ -4,8 +4,16 @@
 
 #include <cstdlib>
 
+#include <bit>
+#include <cstring>
+#include <vector>
+
+#include "sphfx/core/error.h"
+#include "sphfx/core/gl.h"
 #include "sphfx/core/gl_context.h"
+#include "sphfx/core/gpu_buffer.h"
 #include "sphfx/core/selftest.h"
+#include "sphfx/core/shader_program.h"
 
 using namespace sphfx;
 
@@ -47,4 +55,65 @@ TEST(GLCompute, EmptyDispatchIsHarmless) {
   const ComputeSelfTestResult r = runComputeSelfTest({}, 1, 1);
   EXPECT_TRUE(r.data.empty());
   EXPECT_EQ(r.invocations, 0u);
+}
+
+// Texels fetched through the buffer-texture views (the simulation's neighbour loops read this way) are
+// the uploaded bits, and a view follows its buffer when the buffer is resized.
+namespace {
+
+struct FetchedTexels {
+  std::vector<float> floats;
+  std::vector<uint32_t> words;
+};
+
+FetchedTexels fetchThroughViews(const GpuBuffer& floats, const GpuBuffer& words, uint32_t count) {
+  const ShaderProgram p = ShaderProgram::compute("selftest_texture.comp");
+  GpuBuffer floatsOut(size_t(count) * 16), wordsOut(size_t(count) * 4);
+  floats.bindTexture(0, GL_RGBA32F);
+  words.bindTexture(1, GL_R32UI);
+  floatsOut.bindStorage(0);
+  wordsOut.bindStorage(1);
+  p.use();
+  glProgramUniform1ui(p.id(), p.uniform("uCount"), count);
+  glDispatchCompute((count + 63) / 64, 1, 1);
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+  return {floatsOut.downloadVector<float>(size_t(count) * 4), wordsOut.downloadVector<uint32_t>(count)};
+}
+
+std::vector<float> texelFloats(uint32_t count, float scale) {
+  std::vector<float> v(size_t(count) * 4);
+  for (size_t k = 0; k < v.size(); ++k) v[k] = scale * (float(k) - 7.25f) * (k % 3 ? 1.0f : -1e-3f);
+  // Integers as float bits (denormals), as the DFSPH list entries and positions carry indices and ids
+  // in w: a fetch must return the bits, not flush them to zero.
+  for (size_t k = 3; k < v.size(); k += 4) v[k] = std::bit_cast<float>(uint32_t(k * 977u));
+  return v;
+}
+
+std::vector<uint32_t> texelWords(uint32_t count, uint32_t salt) {
+  std::vector<uint32_t> v(count);
+  for (uint32_t k = 0; k < count; ++k) v[k] = (k * 2654435761u) ^ salt;
+  return v;
+}
+
+void expectSameBits(const std::vector<float>& a, const std::vector<float>& b) {
+  ASSERT_EQ(a.size(), b.size());
+  for (size_t k = 0; k < a.size(); ++k)
+    ASSERT_EQ(std::bit_cast<uint32_t>(a[k]), std::bit_cast<uint32_t>(b[k])) << "component " << k;
+}
+
+}  // namespace
+
+TEST(GLCompute, BufferTextureViewsFetchTheStoredBitsAndFollowResize) {
+  auto ctx = GLContext::create({backendFromEnv(), true});
+  GpuBuffer floats, words;
+  for (uint32_t count : {100u, 1000u}) {  // the second pass resizes both buffers under their views
+    const std::vector<float> f = texelFloats(count, float(count));
+    const std::vector<uint32_t> w = texelWords(count, count);
+    floats.uploadVector(f);
+    words.uploadVector(w);
+    const FetchedTexels got = fetchThroughViews(floats, words, count);
+    expectSameBits(got.floats, f);
+    EXPECT_EQ(got.words, w);
+  }
+  EXPECT_THROW(floats.bindTexture(0, GL_RGB8), GLError);
 }

@@ -29,6 +29,13 @@ class GpuBuffer {
   void bindStorage(uint32_t binding) const;
   /// Binds to an indexed uniform binding point.
   void bindUniform(uint32_t binding) const;
+  /// Binds a read-only view of the buffer as a buffer texture (GLSL samplerBuffer/usamplerBuffer, read
+  /// with texelFetch) to texture unit `unit`, texels of `format` (GL_RGBA32F, GL_RG32F, GL_R32F or
+  /// GL_R32UI). The view is made on first use and follows resize(). Shader writes to the buffer need
+  /// GL_TEXTURE_FETCH_BARRIER_BIT before a texel fetch sees them.
+  /// @throws GLError for another format, or if the buffer holds more texels than the context's
+  /// GL_MAX_TEXTURE_BUFFER_SIZE (both named in the message).
+  void bindTexture(uint32_t unit, uint32_t format) const;
 
   template <class T>
   void uploadVector(const std::vector<T>& v) {
@@ -48,6 +55,10 @@ class GpuBuffer {
  private:
   uint32_t id_ = 0;
   size_t bytes_ = 0;
+  // The buffer texture of bindTexture(): its name, format and the size it was attached at.
+  mutable uint32_t texture_ = 0, textureFormat_ = 0;
+  mutable size_t textureBytes_ = 0;
+  void release();
 };
 
 }  // namespace sphfx

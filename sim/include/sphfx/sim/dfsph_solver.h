@@ -58,7 +58,8 @@ struct DfsphFrameStats {
 class DFSPHSolver : public PressureSolver {
  public:
   /// Builds the programs (tolerances and iteration limits are compiled in) and buffers for `particles`.
-  /// @throws GLError if a program does not build.
+  /// @throws GLError if a program does not build, or if the neighbour lists hold more texels than the
+  /// context's GL_MAX_TEXTURE_BUFFER_SIZE (the solver iterations read them through a buffer texture).
   DFSPHSolver(const Scene& scene, const DispatchGate& gate, const ShaderDefines& defines, uint32_t particles);
   const char* name() const override { return "dfsph"; }
   void computeAccelerations(PassTimer& timer) const override;
@@ -94,6 +95,7 @@ class DFSPHSolver : public PressureSolver {
   Solve makeSolve(ShaderDefines defines, bool divergence, double tolerance, uint32_t gateWord) const;
   void run(const Solve& s, const char* label, PassTimer& timer) const;
   void bind() const;
+  void checkListFitsTextureView() const;
   void dispatch(const ShaderProgram& p, uint32_t entry, const char* label) const;
   bool open() const;
 

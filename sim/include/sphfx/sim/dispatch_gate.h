@@ -37,7 +37,8 @@ class DispatchGate {
   GpuBuffer buffer_;
 };
 
-/// glMemoryBarrier for shader storage written by one pass and read by the next.
+/// glMemoryBarrier for shader storage written by one pass and read by the next (as storage or through
+/// a buffer texture view, sph_textures.glsl).
 void storageBarrier();
 
 }  // namespace sphfx::sim
