@@ -99,9 +99,10 @@ DFSPHSolver::Solve DFSPHSolver::makeSolve(ShaderDefines d, bool divergence, doub
   d.set("DFSPH_MIN_NEIGHBOURS", float(minNeighbours_));
   d.set("DFSPH_OMEGA", float(kJacobiOmega));
   d.set("DFSPH_WARM_SHARE", float(divergence ? kDivergenceWarmShare : kDensityWarmShare));
-  return {
-      ShaderProgram::compute("sim_dfsph_begin.comp", d), ShaderProgram::compute("sim_dfsph_source.comp", d),
-      ShaderProgram::compute("sim_dfsph_reduce.comp", d), ShaderProgram::compute("sim_dfsph_apply.comp", d)};
+  return {ShaderProgram::compute("sim_dfsph_begin.comp", d),
+          ShaderProgram::compute("sim_dfsph_source.comp", d),
+          ShaderProgram::compute("sim_dfsph_reduce.comp", d),
+          ShaderProgram::compute("sim_dfsph_apply.comp", d), divergence};
 }
 
 // The iterations read the lists through a buffer texture (sph_dfsph.glsl), whose size is limited in
@@ -171,8 +172,7 @@ void DFSPHSolver::run(const Solve& s, const char* label, PassTimer& timer) const
   const GLint warm = s.source.uniform("uWarm");
   glProgramUniform1ui(s.source.id(), warm, 1u);
   dispatch(s.source, kSourceEntry, "sim_dfsph_source.comp");
-  // The density solve's warm start was applied as an acceleration by the non-pressure pass.
-  if (&s == &divergence_) dispatch(s.apply, kApplyEntry, "sim_dfsph_apply.comp");
+  if (s.applyWarmStart) dispatch(s.apply, kApplyEntry, "sim_dfsph_apply.comp");
   glProgramUniform1ui(s.source.id(), warm, 0u);
   // maxIterations_ + 1 reductions: the last one records a solve that ran out of iterations.
   for (int it = 0; it <= maxIterations_;) {

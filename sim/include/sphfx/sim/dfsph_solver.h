@@ -91,6 +91,9 @@ class DFSPHSolver : public PressureSolver {
  private:
   struct Solve {
     ShaderProgram begin, source, reduce, apply;
+    /// The warm start needs an apply pass (divergence); the density solve's share is applied as an
+    /// acceleration by the non-pressure pass.
+    bool applyWarmStart;
   };
   Solve makeSolve(ShaderDefines defines, bool divergence, double tolerance, uint32_t gateWord) const;
   void run(const Solve& s, const char* label, PassTimer& timer) const;
