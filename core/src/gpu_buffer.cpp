@@ -101,15 +101,20 @@ size_t texelBytes(uint32_t format) {
 
 }  // namespace
 
+size_t maxTextureBufferTexels() {
+  GLint limit = 0;
+  glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &limit);
+  return size_t(limit);
+}
+
 void GpuBuffer::bindTexture(uint32_t unit, uint32_t format) const {
   if (!texture_) glGenTextures(1, &texture_);
   glActiveTexture(GL_TEXTURE0 + unit);
   glBindTexture(GL_TEXTURE_BUFFER, texture_);
   if (format != textureFormat_ || bytes_ != textureBytes_) {
     const size_t texels = bytes_ / texelBytes(format);
-    GLint limit = 0;
-    glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &limit);
-    if (texels > size_t(limit))
+    const size_t limit = maxTextureBufferTexels();
+    if (texels > limit)
       throw GLError(fmt::format(
           "a buffer of {} texels is larger than this GL's GL_MAX_TEXTURE_BUFFER_SIZE ({})", texels, limit));
     glTexBuffer(GL_TEXTURE_BUFFER, format, id_);

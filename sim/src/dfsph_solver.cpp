@@ -108,10 +108,8 @@ DFSPHSolver::Solve DFSPHSolver::makeSolve(ShaderDefines d, bool divergence, doub
 // The iterations read the lists through a buffer texture (sph_dfsph.glsl), whose size is limited in
 // texels; say so by name before the first substep rather than from a bind inside it.
 void DFSPHSolver::checkListFitsTextureView() const {
-  GLint limit = 0;
-  glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &limit);
-  const size_t texels = neighbors_.size() / 16;
-  if (texels > size_t(limit))
+  const size_t limit = maxTextureBufferTexels(), texels = neighbors_.size() / 16;
+  if (texels > limit)
     throw GLError(
         fmt::format("the DFSPH neighbour lists need {} texels ({} particles x {} slots), more than "
                     "this GL's GL_MAX_TEXTURE_BUFFER_SIZE ({}): use fewer particles, or "

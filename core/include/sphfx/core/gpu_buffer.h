@@ -8,6 +8,9 @@
 
 namespace sphfx {
 
+/// Texels a buffer texture may hold in the current context (GL_MAX_TEXTURE_BUFFER_SIZE).
+size_t maxTextureBufferTexels();
+
 class GpuBuffer {
  public:
   GpuBuffer() = default;
