@@ -1,0 +1,75 @@
+// Fastest particles of a shot's cache frames: how many exceed 3 and 5 m/s, and the fastest few with
+// their positions and velocities. The CFL step (0.4 d / |v|max) follows the single fastest particle,
+// so this shows what sets a run's step count (docs/performance.md, "DFSPH").
+//   cache_speeds SHOT FRAME... [--top N]
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <exception>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "sphfx/core/particle_cache.h"
+
+namespace {
+
+float speed(const std::array<float, 3>& v) {
+  return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+}
+
+void report(const std::string& shot, int frameNumber, size_t top) {
+  const sphfx::ParticleFrame f = sphfx::readParticleCache(sphfx::particleCachePath(shot, frameNumber));
+  std::vector<size_t> order(f.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  const size_t shown = std::min(top, order.size());
+  std::partial_sort(order.begin(), order.begin() + long(shown), order.end(),
+                    [&](size_t a, size_t b) { return speed(f.velocity[a]) > speed(f.velocity[b]); });
+  size_t over3 = 0, over5 = 0;
+  for (const auto& v : f.velocity) {
+    over3 += speed(v) > 3.0f;
+    over5 += speed(v) > 5.0f;
+  }
+  std::printf("frame %d  t %.3f s  particles %zu  |v| > 3 m/s: %zu  |v| > 5 m/s: %zu\n", frameNumber, f.time,
+              f.size(), over3, over5);
+  for (size_t k = 0; k < shown; ++k) {
+    const auto& p = f.position[order[k]];
+    const auto& v = f.velocity[order[k]];
+    std::printf("  |v| %6.2f  x (%7.3f %7.3f %7.3f)  v (%6.2f %6.2f %6.2f)\n", speed(v), p[0], p[1], p[2],
+                v[0], v[1], v[2]);
+  }
+}
+
+// A whole non-negative number, or a clear error naming the argument.
+long parseCount(const std::string& text, const char* what) {
+  long value = -1;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (ec != std::errc() || end != text.data() + text.size() || value < 0)
+    throw std::invalid_argument(std::string("expected ") + what + ", got '" + text + "'");
+  return value;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    if (argc < 3) {
+      std::fprintf(stderr, "usage: cache_speeds SHOT FRAME... [--top N]\n");
+      return 2;
+    }
+    size_t top = 6;
+    std::vector<int> frames;
+    for (int i = 2; i < argc; ++i) {
+      if (std::string(argv[i]) == "--top" && i + 1 < argc)
+        top = size_t(parseCount(argv[++i], "a count after --top"));
+      else
+        frames.push_back(int(parseCount(argv[i], "a frame number")));
+    }
+    for (int frame : frames) report(argv[1], frame, top);
+    return 0;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "cache_speeds: %s\n", e.what());
+    return 1;
+  }
+}
