@@ -3,10 +3,12 @@
 // so this shows what sets a run's step count (docs/performance.md, "DFSPH").
 //   cache_speeds SHOT FRAME... [--top N]
 #include <algorithm>
+#include <array>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <exception>
+#include <numeric>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -22,7 +24,7 @@ float speed(const std::array<float, 3>& v) {
 void report(const std::string& shot, int frameNumber, size_t top) {
   const sphfx::ParticleFrame f = sphfx::readParticleCache(sphfx::particleCachePath(shot, frameNumber));
   std::vector<size_t> order(f.size());
-  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::iota(order.begin(), order.end(), size_t(0));
   const size_t shown = std::min(top, order.size());
   std::partial_sort(order.begin(), order.begin() + long(shown), order.end(),
                     [&](size_t a, size_t b) { return speed(f.velocity[a]) > speed(f.velocity[b]); });
