@@ -22,7 +22,7 @@ void main() {
     ivec3 cell = sphCell(xi);
     uint n = simCounts.x, listed = 0u;
     float m = simGravity.w, fluid = 0.0, wall = 0.0, squares = 0.0, boundaryNeighbours = 0.0;
-    float wallVelocity = 0.0;
+    float boundaryW = 0.0;  // dfBoundary.w (sph_dfsph.glsl)
     vec3 gradSum = vec3(0.0), wallGrad = vec3(0.0);
     for (int dz = -1; dz <= 1; ++dz)
       for (int dy = -1; dy <= 1; ++dy) {
@@ -51,14 +51,16 @@ void main() {
           vec3 g = b.w * dfsphGrad(d);
           wallGrad += g;
 #if defined(HAS_COLLIDERS)
-          wallVelocity += dot(sphFetchBoundaryVel(j).xyz, g);  // walls are at rest, colliders move
+          boundaryW += dot(sphFetchBoundaryVel(j).xyz, g);  // walls are at rest, colliders move
+#elif defined(DFSPH_WALL_LAPLACIAN_SUM)
+          boundaryW += b.w * sphViscosityLaplacian(sqrt(r2));
 #endif
           boundaryNeighbours += r2 < simKernel.w ? 1.0 : 0.0;
         }
       }
     if (listed > uint(DFSPH_MAX_NEIGHBORS)) atomicOr(stateFailure, SIM_FAIL_NEIGHBORS);
     dfCount[i] = min(listed, uint(DFSPH_MAX_NEIGHBORS));
-    dfBoundary[i] = vec4(wallGrad, wallVelocity);
+    dfBoundary[i] = vec4(wallGrad, boundaryW);
     float rho = m * fluid + wall;
     vec3 g = gradSum + wallGrad;
     float denom = dot(g, g) + squares;

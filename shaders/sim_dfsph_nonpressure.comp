@@ -45,7 +45,9 @@ void viscosityAndWarmPressure(uint i, vec3 xi, vec3 vi, float rhoi, float pi, ou
 #endif
 #endif
   }
-#if defined(VISCOSITY_ARTIFICIAL) || defined(VISCOSITY_LAPLACIAN)
+#if defined(DFSPH_WALL_LAPLACIAN_SUM)
+  wall = -(simViscosity.x / rhoi * dfsphBoundary(i).w) * vi;
+#elif defined(VISCOSITY_ARTIFICIAL) || defined(VISCOSITY_LAPLACIAN)
   ivec3 cell = sphCell(xi);
   for (int dz = -1; dz <= 1; ++dz)
     for (int dy = -1; dy <= 1; ++dy) {

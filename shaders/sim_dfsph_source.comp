@@ -38,7 +38,11 @@ float densityChange(uint i) {
     fluid += dot(vi - sphFetchVel(floatBitsToUint(e.w)).xyz, e.xyz);
   }
   vec4 b = dfsphBoundary(i);
+#if defined(HAS_COLLIDERS)
   return fluid + dot(vi, b.xyz) - b.w;
+#else
+  return fluid + dot(vi, b.xyz);  // walls at rest (w may hold the walls' Laplacian sum)
+#endif
 }
 
 // Projected Jacobi (the stiffness total stays >= 0, as pressure in IISPH): the signed residual moves the

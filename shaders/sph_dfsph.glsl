@@ -43,7 +43,16 @@ layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_CONTROL) buffer DfsphControl {
 //   dfNbr[k * N + i]: xyz = m grad W(x_i - x_j), w = j (uint bits)
 //   dfCount[i]: fluid neighbours of i in the list
 //   dfBoundary[i]: xyz = sum_b psi_b grad W(x_i - x_b), w = sum_b psi_b v_b . grad W(x_i - x_b)
-//     (boundary samples do not move during a substep, so their sums are constant in the solves)
+//     (boundary samples do not move during a substep, so their sums are constant in the solves);
+//     with DFSPH_WALL_LAPLACIAN_SUM instead w = sum_b psi_b lap W(x_i - x_b) (see below)
+// Walls at rest (no colliders) and Laplacian viscosity: the walls' viscous term is
+// nu / rho_i sum_b psi_b lap W_ib (0 - v_i) = -(nu / rho_i) v_i sum_b psi_b lap W_ib, so the factor pass
+// sums psi_b lap W_ib in its boundary loop (in dfBoundary.w, where the walls' velocity term is 0) and the
+// non-pressure pass needs no boundary walk of its own.
+#if defined(VISCOSITY_LAPLACIAN) && !defined(HAS_COLLIDERS)
+#define DFSPH_WALL_LAPLACIAN_SUM
+#endif
+
 #if defined(DFSPH_LIST_READ)
 // The list entries and the increments are read per neighbour, through texel fetches (sph_textures.glsl).
 layout(binding = SPHFX_TEX_SIM_DFSPH_NEIGHBORS) uniform samplerBuffer dfNbrTex;

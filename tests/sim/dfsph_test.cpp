@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -187,6 +188,46 @@ TEST_F(DFSPH, CachesAreDeterministicAndResumeIsBitIdentical) {
     EXPECT_TRUE(same(fa, readParticleCache(particleCachePath(c.string(), frame))))
         << "resume, frame " << frame;
   }
+}
+
+// Laplacian viscosity at walls at rest: the factor pass sums psi_b lap W_ib for the non-pressure pass
+// (DFSPH_WALL_LAPLACIAN_SUM), which then walks no boundary rows. A static collider out of the fluid's
+// reach compiles the other variant (HAS_COLLIDERS: the walk, as validated by the Poiseuille test's
+// wall term in sim_force.comp), so both runs must give the same velocities up to summation order.
+// With nu = 0.01 m^2/s the walls' term is strong: leaving it out (w = 0) changes the particles near
+// the walls by a large fraction of their speed within these frames.
+TEST_F(DFSPH, WallViscositySumMatchesTheBoundaryWalk) {
+  const std::vector<std::string> common = {"fluid.spacing=0.02",
+                                           "time.fps=60",
+                                           "time.end_frame=4",
+                                           "time.dt_max=0.01",
+                                           "fluid.viscosity_model=laplacian",
+                                           "fluid.viscosity=0.01",
+                                           R"(cache.attributes=["id"])"};
+  std::vector<std::string> withCollider = common;
+  withCollider.push_back(
+      R"(colliders=[{"name":"far","shape":"box","min":[0.8,0.45,0],"max":[0.9,0.55,0.1]}])");
+  auto run = [](const Scene& s) {
+    Simulator sim(s);
+    while (sim.frame() < s.time.endFrame) sim.advance();
+    ParticleFrame f = sim.cacheFrame();
+    std::vector<std::array<float, 3>> v(f.size());
+    for (size_t i = 0; i < f.size(); ++i) v[size_t(f.id[i])] = f.velocity[i];
+    return v;
+  };
+  const Scene folded = scene("dam_break.json", common), walked = scene("dam_break.json", withCollider);
+  ASSERT_TRUE(folded.colliders.empty());
+  ASSERT_EQ(walked.colliders.size(), 1u);
+  const auto a = run(folded), b = run(walked);
+  ASSERT_EQ(a.size(), b.size());
+  double diff = 0, vmax = 0;
+  for (size_t i = 0; i < a.size(); ++i) {
+    diff = std::max(diff, double(std::hypot(a[i][0] - b[i][0], a[i][1] - b[i][1], a[i][2] - b[i][2])));
+    vmax = std::max(vmax, double(std::hypot(b[i][0], b[i][1], b[i][2])));
+  }
+  std::printf("wall viscosity: max velocity difference %.3g m/s (max speed %.3g m/s)\n", diff, vmax);
+  EXPECT_GT(vmax, 0.3) << "the column must be moving";
+  EXPECT_LT(diff, 1e-3 * vmax);
 }
 
 // A box collider rising through the fluid: the run stays healthy and no particle ends up inside it.
