@@ -52,6 +52,15 @@ long parseCount(const std::string& text, const char* what) {
   return value;
 }
 
+// A frame number; film shots may start below 0 (the scene allows start_frame down to -1e6).
+int parseFrame(const std::string& text) {
+  int value = 0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (ec != std::errc() || end != text.data() + text.size())
+    throw std::invalid_argument("expected a frame number, got '" + text + "'");
+  return value;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -66,7 +75,7 @@ int main(int argc, char** argv) {
       if (std::string(argv[i]) == "--top" && i + 1 < argc)
         top = size_t(parseCount(argv[++i], "a count after --top"));
       else
-        frames.push_back(int(parseCount(argv[i], "a frame number")));
+        frames.push_back(parseFrame(argv[i]));
     }
     for (int frame : frames) report(argv[1], frame, top);
     return 0;
