@@ -1,7 +1,9 @@
 // Fastest particles of a shot's cache frames: how many exceed 3 and 5 m/s, and the fastest few with
 // their positions and velocities. The CFL step (0.4 d / |v|max) follows the single fastest particle,
-// so this shows what sets a run's step count (docs/performance.md, "DFSPH").
-//   cache_speeds SHOT FRAME... [--top N]
+// so this shows what sets a run's step count (docs/performance.md, "DFSPH"). With --densest N also the
+// N densest particles (the cache must store `density`, scene cache.attributes): where a run that stops
+// on health.max_density_ratio compresses (docs/accuracy.md, "Known gaps").
+//   cache_speeds SHOT FRAME... [--top N] [--densest N]
 #include <algorithm>
 #include <array>
 #include <charconv>
@@ -21,13 +23,29 @@ float speed(const std::array<float, 3>& v) {
   return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
 }
 
-void report(const std::string& shot, int frameNumber, size_t top) {
-  const sphfx::ParticleFrame f = sphfx::readParticleCache(sphfx::particleCachePath(shot, frameNumber));
-  std::vector<size_t> order(f.size());
+// Indices of the `count` particles with the largest key, largest first.
+template <class Key>
+std::vector<size_t> largest(size_t n, size_t count, Key key) {
+  std::vector<size_t> order(n);
   std::iota(order.begin(), order.end(), size_t(0));
-  const size_t shown = std::min(top, order.size());
+  const size_t shown = std::min(count, n);
   std::partial_sort(order.begin(), order.begin() + long(shown), order.end(),
-                    [&](size_t a, size_t b) { return speed(f.velocity[a]) > speed(f.velocity[b]); });
+                    [&](size_t a, size_t b) { return key(a) > key(b); });
+  order.resize(shown);
+  return order;
+}
+
+void printParticle(const char* label, float value, const sphfx::ParticleFrame& f, size_t i) {
+  const auto& p = f.position[i];
+  const auto& v = f.velocity[i];
+  std::printf("  %s %7.2f  x (%7.4f %7.4f %7.4f)  v (%6.2f %6.2f %6.2f)\n", label, value, p[0], p[1], p[2],
+              v[0], v[1], v[2]);
+}
+
+void report(const std::string& shot, int frameNumber, size_t top, size_t densest) {
+  const std::string path = sphfx::particleCachePath(shot, frameNumber);
+  const sphfx::ParticleFrame f = sphfx::readParticleCache(path);
+  const std::vector<size_t> fastest = largest(f.size(), top, [&](size_t i) { return speed(f.velocity[i]); });
   size_t over3 = 0, over5 = 0;
   for (const auto& v : f.velocity) {
     over3 += speed(v) > 3.0f;
@@ -35,12 +53,13 @@ void report(const std::string& shot, int frameNumber, size_t top) {
   }
   std::printf("frame %d  t %.3f s  particles %zu  |v| > 3 m/s: %zu  |v| > 5 m/s: %zu\n", frameNumber, f.time,
               f.size(), over3, over5);
-  for (size_t k = 0; k < shown; ++k) {
-    const auto& p = f.position[order[k]];
-    const auto& v = f.velocity[order[k]];
-    std::printf("  |v| %6.2f  x (%7.3f %7.3f %7.3f)  v (%6.2f %6.2f %6.2f)\n", speed(v), p[0], p[1], p[2],
-                v[0], v[1], v[2]);
-  }
+  for (size_t i : fastest) printParticle("|v|", speed(f.velocity[i]), f, i);
+  if (densest == 0) return;
+  if (f.density.size() != f.size())
+    throw std::runtime_error(path + " stores no density: add \"density\" to the scene's cache.attributes");
+  std::printf("  densest (kg/m^3):\n");
+  for (size_t i : largest(f.size(), densest, [&](size_t k) { return f.density[k]; }))
+    printParticle("rho", f.density[i], f, i);
 }
 
 // A whole non-negative number, or a clear error naming the argument.
@@ -66,18 +85,20 @@ int parseFrame(const std::string& text) {
 int main(int argc, char** argv) {
   try {
     if (argc < 3) {
-      std::fprintf(stderr, "usage: cache_speeds SHOT FRAME... [--top N]\n");
+      std::fprintf(stderr, "usage: cache_speeds SHOT FRAME... [--top N] [--densest N]\n");
       return 2;
     }
-    size_t top = 6;
+    size_t top = 6, densest = 0;
     std::vector<int> frames;
     for (int i = 2; i < argc; ++i) {
       if (std::string(argv[i]) == "--top" && i + 1 < argc)
         top = size_t(parseCount(argv[++i], "a count after --top"));
+      else if (std::string(argv[i]) == "--densest" && i + 1 < argc)
+        densest = size_t(parseCount(argv[++i], "a count after --densest"));
       else
         frames.push_back(parseFrame(argv[i]));
     }
-    for (int frame : frames) report(argv[1], frame, top);
+    for (int frame : frames) report(argv[1], frame, top, densest);
     return 0;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "cache_speeds: %s\n", e.what());
