@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <array>
 #include <bit>
 #include <chrono>
 #include <cmath>
@@ -185,8 +186,8 @@ void Simulator::checkHealth(const SimState& s) const {
       add(fmt::format("speed {:.4g} m/s above health.max_speed {:.4g}", std::sqrt(v2),
                       scene_.health.maxSpeed));
     if (s.failure & kFailDensity)
-      add(fmt::format("density {:.5g} kg/m^3 above health.max_density_ratio {} x rest density", rho,
-                      scene_.health.maxDensityRatio));
+      add(fmt::format("density {:.5g} kg/m^3 above health.max_density_ratio {} x rest density{}", rho,
+                      scene_.health.maxDensityRatio, whereDensest()));
     if (s.failure & kFailDt) add(fmt::format("CFL time step below time.dt_min {:.3g} s", scene_.time.dtMin));
     if (s.failure & kFailNeighbors)
       add(
@@ -201,6 +202,35 @@ void Simulator::checkHealth(const SimState& s) const {
     if (s.healthCount[k])
       throw SimulationError(fmt::format("frame {}, substep {} (end of frame): {} particles {} (first id {})",
                                         frame_, s.substeps, s.healthCount[k], what[k], s.healthFirst[k]));
+}
+
+// Where the densest particle of the failed substep is: its position and the nearest wall of the domain
+// (most runs that stop on density compress against a wall). Read back only on failure; the density and
+// sorted positions are those of the substep that failed (its later passes did not run).
+std::string Simulator::whereDensest() const {
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+  const auto rho = density_.downloadVector<std::array<float, 2>>(count_);
+  const auto pos = pos_.downloadVector<std::array<float, 4>>(count_);
+  uint32_t densest = 0;
+  for (uint32_t i = 1; i < count_; ++i)
+    if (rho[i][0] > rho[densest][0]) densest = i;  // NaN never wins: reported as non-finite instead
+  const auto& x = pos[densest];
+  static const char* face[3][2] = {{"x-min", "x-max"}, {"y-min", "y-max"}, {"z-min", "z-max"}};
+  double nearest = std::numeric_limits<double>::infinity();
+  const char* name = nullptr;
+  for (int a = 0; a < 3; ++a) {
+    if (scene_.domain.isPeriodic(a)) continue;
+    const double d[2] = {x[a] - scene_.domain.min[a], scene_.domain.max[a] - x[a]};
+    for (int side = 0; side < 2; ++side)
+      if (d[side] < nearest) {
+        nearest = d[side];
+        name = face[a][side];
+      }
+  }
+  std::string where = fmt::format(" at ({:.4f}, {:.4f}, {:.4f}) m", x[0], x[1], x[2]);
+  if (name)
+    where += fmt::format(", {:.2f} spacings from the domain's {} wall", nearest / scene_.fluid.spacing, name);
+  return where;
 }
 
 SimulatorState Simulator::saveState() const {

@@ -1,5 +1,5 @@
 # A fixed time step far too large for the scene: the run must stop with exit code 3, name the frame,
-# the substep and the cause, and leave the frames finished before intact.
+# the substep and the cause (for density, where), and leave the frames finished before intact.
 file(REMOVE_RECURSE "${SHOT}")
 execute_process(COMMAND "${EXE}" simulate "${SCENE}" -o "${SHOT}" --gl egl-surfaceless
                         --set fluid.spacing=0.025 --set time.dt_mode=fixed --set time.dt=0.01
@@ -9,6 +9,11 @@ if(NOT rc EQUAL 3)
 endif()
 if(NOT err MATCHES "frame [0-9]+, substep [0-9]+.*: .*(NaN|speed|density|outside)")
   message(FATAL_ERROR "the error does not name frame, substep and cause: ${err}")
+endif()
+# A stop on density also says where: the densest particle's position and its nearest domain wall.
+if(err MATCHES "density [0-9.e+]+ kg/m\\^3 above" AND
+   NOT err MATCHES "rest density at \\([-0-9.]+, [-0-9.]+, [-0-9.]+\\) m, [0-9.]+ spacings from the domain's [xyz]-m(in|ax) wall")
+  message(FATAL_ERROR "the density stop does not say where: ${err}")
 endif()
 string(REGEX MATCH "frame ([0-9]+), substep" m "${err}")
 math(EXPR last_good "${CMAKE_MATCH_1} - 1")

@@ -79,6 +79,7 @@ class Simulator {
   SimState readState() const;
   void startFrame(double t0, double t1);
   void checkHealth(const SimState& s) const;
+  std::string whereDensest() const;
 
   Scene scene_;
   uint32_t count_ = 0;
