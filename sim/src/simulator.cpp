@@ -205,15 +205,17 @@ void Simulator::checkHealth(const SimState& s) const {
 }
 
 // Where the densest particle of the failed substep is: its position and the nearest wall of the domain
-// (most runs that stop on density compress against a wall). Read back only on failure; the density and
-// sorted positions are those of the substep that failed (its later passes did not run).
+// (the stops measured so far compressed against a wall, docs/accuracy.md "Known gaps"). Read back only on
+// failure; the density and sorted positions are those of the substep that failed (its later passes did not
+// run).
 std::string Simulator::whereDensest() const {
   glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
   const auto rho = density_.downloadVector<std::array<float, 2>>(count_);
   const auto pos = pos_.downloadVector<std::array<float, 4>>(count_);
   uint32_t densest = 0;
   for (uint32_t i = 1; i < count_; ++i)
-    if (rho[i][0] > rho[densest][0]) densest = i;  // NaN never wins: reported as non-finite instead
+    // A NaN density is never chosen (the non-finite check reports it), nor kept if particle 0 has one.
+    if (std::isfinite(rho[i][0]) && !(rho[i][0] <= rho[densest][0])) densest = i;
   const auto& x = pos[densest];
   static const char* face[3][2] = {{"x-min", "x-max"}, {"y-min", "y-max"}, {"z-min", "z-max"}};
   double nearest = std::numeric_limits<double>::infinity();
