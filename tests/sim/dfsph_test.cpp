@@ -1,7 +1,7 @@
 // DFSPH (Bender & Koschier 2015/2017) on the GPU: the factor pass's neighbour lists against brute force,
-// hydrostatic rest state and pressure, the solver's own error reports, a large-time-step dam break against Martin & Moyce, divergence-free velocities,
-// determinism and bit-identical resume, the walls' viscosity sum, moving colliders. Small resolutions:
-// llvmpipe in CI.
+// hydrostatic rest state and pressure, the solver's own error reports, a large-time-step dam break
+// against Martin & Moyce, divergence-free velocities, determinism and bit-identical resume, the walls'
+// viscosity sum, moving colliders. Small resolutions: llvmpipe in CI.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
