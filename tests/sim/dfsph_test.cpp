@@ -58,8 +58,8 @@ class DFSPH : public ::testing::Test {
 // The neighbour lists of sim_dfsph_factor.comp (every solver iteration reads them) against brute force
 // on the CPU: per sorted particle the fluid neighbours within h in ascending sorted order, each with
 // m grad W (spiky) computed here in double, and no list overflow reported. Random positions at the rest
-// packing, and 8x denser (fluid.packing 0.5: rows of 3 cells hold ~190 candidates, a particle ~300
-// neighbours).
+// packing, and 8x denser (fluid.packing 0.5: rows of 3 cells hold ~190 candidates, a particle up to
+// ~300 neighbours).
 struct FactorLists {
   std::vector<std::array<float, 4>> sortedPos, entries;
   std::vector<uint32_t> count;
