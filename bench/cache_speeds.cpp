@@ -2,18 +2,25 @@
 // their positions and velocities. The CFL step (0.4 d / |v|max) follows the single fastest particle,
 // so this shows what sets a run's step count (docs/performance.md, "DFSPH"). With --densest N also the
 // N densest particles (the cache must store `density`, scene cache.attributes): where a run that stops
-// on health.max_density_ratio compresses (docs/accuracy.md, "Known gaps").
-//   cache_speeds SHOT FRAME... [--top N] [--densest N]
+// on health.max_density_ratio compresses (docs/accuracy.md, "Known gaps"). With --near-walls the number of
+// particles within 0.1 and 0.25 spacings of the domain's walls (the shot's manifest.json gives the domain;
+// a resting first layer sits at 0.5 spacings): how deep the fluid is pressed into the walls
+// (docs/dfsph.md, "Walls").
+//   cache_speeds SHOT FRAME... [--top N] [--densest N] [--near-walls]
 #include <algorithm>
 #include <array>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <exception>
+#include <fstream>
 #include <numeric>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "sphfx/core/particle_cache.h"
 
@@ -42,7 +49,63 @@ void printParticle(const char* label, float value, const sphfx::ParticleFrame& f
               v[0], v[1], v[2]);
 }
 
-void report(const std::string& shot, int frameNumber, size_t top, size_t densest) {
+// The domain's walls: min and max corners, periodic axes left out (no wall there).
+struct Walls {
+  std::array<double, 3> min{}, max{};
+  std::array<bool, 3> wall{true, true, true};
+};
+
+Walls readWalls(const std::string& shot) {
+  const std::string path = shot + "/manifest.json";
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(path + ": cannot open (--near-walls needs the shot's manifest)");
+  try {
+    const nlohmann::json domain = nlohmann::json::parse(in).at("simulate").at("scene").at("domain");
+    Walls w;
+    for (int a = 0; a < 3; ++a) {
+      w.min[size_t(a)] = domain.at("min").at(size_t(a)).get<double>();
+      w.max[size_t(a)] = domain.at("max").at(size_t(a)).get<double>();
+    }
+    for (const auto& axis : domain.value("periodic", nlohmann::json::array()))
+      w.wall[size_t(std::string("xyz").find(axis.get<std::string>()))] = false;
+    return w;
+  } catch (const nlohmann::json::exception& e) {
+    throw std::runtime_error(path + ": expected simulate.scene.domain with min, max and periodic (" +
+                             e.what() + ")");
+  }
+}
+
+// The nearest wall (0 x-min, 1 x-max, 2 y-min, ...) and the distance to it in particle spacings.
+std::pair<size_t, double> nearestWall(const Walls& w, const std::array<float, 3>& p, double spacing) {
+  std::pair<size_t, double> nearest{0, INFINITY};
+  for (size_t a = 0; a < 3; ++a) {
+    if (!w.wall[a]) continue;
+    const double low = double(p[a]) - w.min[a], high = w.max[a] - double(p[a]);
+    if (low < nearest.second) nearest = {2 * a, low};
+    if (high < nearest.second) nearest = {2 * a + 1, high};
+  }
+  return {nearest.first, nearest.second / spacing};
+}
+
+void reportNearWalls(const Walls& w, const sphfx::ParticleFrame& f) {
+  static const char* names[6] = {"x-min", "x-max", "y-min", "y-max", "z-min", "z-max"};
+  std::array<size_t, 6> within01{}, within025{};
+  for (const auto& p : f.position) {
+    const auto [wall, d] = nearestWall(w, p, f.particleSpacing);
+    within01[wall] += d < 0.1;
+    within025[wall] += d < 0.25;
+  }
+  auto line = [&](const char* label, const std::array<size_t, 6>& count) {
+    std::printf("  within %s spacings of a wall: %zu (", label,
+                std::accumulate(count.begin(), count.end(), size_t(0)));
+    for (size_t k = 0; k < 6; ++k) std::printf("%s%s %zu", k ? ", " : "", names[k], count[k]);
+    std::printf(")\n");
+  };
+  line("0.1", within01);
+  line("0.25", within025);
+}
+
+void report(const std::string& shot, int frameNumber, size_t top, size_t densest, const Walls* walls) {
   const std::string path = sphfx::particleCachePath(shot, frameNumber);
   const sphfx::ParticleFrame f = sphfx::readParticleCache(path);
   const std::vector<size_t> fastest = largest(f.size(), top, [&](size_t i) { return speed(f.velocity[i]); });
@@ -54,6 +117,7 @@ void report(const std::string& shot, int frameNumber, size_t top, size_t densest
   std::printf("frame %d  t %.3f s  particles %zu  |v| > 3 m/s: %zu  |v| > 5 m/s: %zu\n", frameNumber, f.time,
               f.size(), over3, over5);
   for (size_t i : fastest) printParticle("|v|", speed(f.velocity[i]), f, i);
+  if (walls) reportNearWalls(*walls, f);
   if (densest == 0) return;
   if (f.density.size() != f.size())
     throw std::runtime_error(path + " stores no density: add \"density\" to the scene's cache.attributes");
@@ -85,20 +149,24 @@ int parseFrame(const std::string& text) {
 int main(int argc, char** argv) {
   try {
     if (argc < 3) {
-      std::fprintf(stderr, "usage: cache_speeds SHOT FRAME... [--top N] [--densest N]\n");
+      std::fprintf(stderr, "usage: cache_speeds SHOT FRAME... [--top N] [--densest N] [--near-walls]\n");
       return 2;
     }
     size_t top = 6, densest = 0;
+    bool nearWalls = false;
     std::vector<int> frames;
     for (int i = 2; i < argc; ++i) {
       if (std::string(argv[i]) == "--top" && i + 1 < argc)
         top = size_t(parseCount(argv[++i], "a count after --top"));
       else if (std::string(argv[i]) == "--densest" && i + 1 < argc)
         densest = size_t(parseCount(argv[++i], "a count after --densest"));
+      else if (std::string(argv[i]) == "--near-walls")
+        nearWalls = true;
       else
         frames.push_back(parseFrame(argv[i]));
     }
-    for (int frame : frames) report(argv[1], frame, top, densest);
+    const Walls walls = nearWalls ? readWalls(argv[1]) : Walls{};
+    for (int frame : frames) report(argv[1], frame, top, densest, nearWalls ? &walls : nullptr);
     return 0;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "cache_speeds: %s\n", e.what());

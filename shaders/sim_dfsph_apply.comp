@@ -1,6 +1,7 @@
 // DFSPH solver iteration, part 2: applies the stiffness increments (symmetric, Bender & Koschier 2017
-// eq. 10/12 in dt-free form): dv_i = -sum_j m (k_i + k_j) grad W_ij - sum_b psi_b k_i grad W_ib, and adds
-// k_i to the particle's total (the warm start of the next step).
+// eq. 10/12 in dt-free form): dv_i = -sum_j m (k_i + k_j) grad W_ij - c sum_b psi_b k_i grad W_ib (c = 1
+// in the divergence solve, DFSPH_DENSITY_WALL_PUSH in the constant-density solve: sph_dfsph.glsl), and
+// adds k_i to the particle's total (the warm start of the next step).
 //   DFSPH_DIVERGENCE: corrects the velocities; the total goes to the per-id warm-start buffer.
 //   otherwise: corrects the predicted velocities v* (in vel since the warm pass, sim_dfsph_source.comp)
 //   by dt dv; the total, p / rho^2, goes to vel.w (carried by the state between steps); the cache's
@@ -18,10 +19,16 @@ layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_WARM) writeonly buffer DfsphWarm {
 layout(std430, binding = SPHFX_SSBO_SIM_DENSITY) writeonly buffer SimDensity { vec2 densityPressure[]; };
 #endif
 
-// -sum_j (k_i + k_j) m grad W_ij - k_i sum_b psi_b grad W_ib, from the list.
+#if defined(DFSPH_DIVERGENCE)
+const float kWallPush = 1.0;
+#else
+const float kWallPush = DFSPH_DENSITY_WALL_PUSH;
+#endif
+
+// -sum_j (k_i + k_j) m grad W_ij - c k_i sum_b psi_b grad W_ib, from the list.
 vec3 velocityChange(uint i, float ki) {
   uint count = dfsphCount(i);
-  vec3 dv = -ki * dfsphBoundary(i).xyz;
+  vec3 dv = -(kWallPush * ki) * dfsphBoundary(i).xyz;
   for (uint k = 0u; k < count; ++k) {
     vec4 e = dfsphEntry(i, k);
     dv -= (ki + dfsphIncrement(floatBitsToUint(e.w))) * e.xyz;

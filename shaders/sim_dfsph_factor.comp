@@ -1,15 +1,17 @@
-// DFSPH step start: density (poly6, fluid and Akinci 2012 boundary samples psi W), the factor
-// alpha_i / rho_i = 1 / (|sum_j m gW_ij + sum_b psi_b gW_ib|^2 + sum_j |m gW_ij|^2)
-// (Bender & Koschier 2017, eq. 9, boundary in the first sum only; gW the spiky gradient, see
-// sph_dfsph.glsl), the neighbour count, and the neighbour list every solver iteration of this substep
-// reads. The cache's pressure is the last step's density stiffness, carried in vel.w. Reduces the
-// largest density (health).
+// DFSPH step start: density (poly6, fluid and Akinci 2012 boundary samples psi W), the factors
+// alpha_i / rho_i of both solves (Bender & Koschier 2017, eq. 9, boundary in the first sum only; gW the
+// spiky gradient; the constant-density solve's walls push twice: sph_dfsph.glsl), and the neighbour
+// list every solver iteration of this substep reads. The walls' hydrostatic push, -sum_b psi_b
+// (g . (x_b - x_i) / rho_i) grad W_ib, goes to accel, to which the non-pressure pass adds the rest of
+// the step's acceleration. The cache's pressure is the last step's density stiffness, carried in vel.w.
+// Reduces the largest density (health).
 #define DFSPH_LIST_WRITE
 #include "sph_params.glsl"
 #include "sph_kernels.glsl"
 #include "sph_dfsph.glsl"
 layout(local_size_x = SIM_WG) in;
 layout(std430, binding = SPHFX_SSBO_SIM_DENSITY) writeonly buffer SimDensity { vec2 densityPressure[]; };
+layout(std430, binding = SPHFX_SSBO_SIM_ACCEL) writeonly buffer SimAccel { vec4 accel[]; };
 shared uint groupMaxDensity;
 
 void main() {
@@ -23,7 +25,7 @@ void main() {
     uint n = simCounts.x, listed = 0u;
     float m = simGravity.w, fluid = 0.0, wall = 0.0, squares = 0.0, boundaryNeighbours = 0.0;
     float boundaryW = 0.0;  // dfBoundary.w (sph_dfsph.glsl)
-    vec3 gradSum = vec3(0.0), wallGrad = vec3(0.0);
+    vec3 gradSum = vec3(0.0), wallGrad = vec3(0.0), hydrostatic = vec3(0.0);
     for (int dz = -1; dz <= 1; ++dz)
       for (int dy = -1; dy <= 1; ++dy) {
         uint first, last;
@@ -50,6 +52,7 @@ void main() {
           wall += b.w * sphPoly6(r2);
           vec3 g = b.w * dfsphGrad(d);
           wallGrad += g;
+          hydrostatic -= dot(simGravity.xyz, d) * g;  // g . (x_b - x_i) psi_b grad W_ib
 #if defined(HAS_COLLIDERS)
           boundaryW += dot(sphFetchBoundaryVel(j).xyz, g);  // walls are at rest, colliders move
 #elif defined(DFSPH_WALL_LAPLACIAN_SUM)
@@ -63,9 +66,15 @@ void main() {
     dfBoundary[i] = vec4(wallGrad, boundaryW);
     float rho = m * fluid + wall;
     vec3 g = gradSum + wallGrad;
-    float denom = dot(g, g) + squares;
-    dfsph[i] = vec4(denom > 1e-6 ? 1.0 / denom : 0.0, float(listed) + boundaryNeighbours, 0.0, 0.0);
+    // The diagonal of each solve: what its own increment does to its residual. With the walls pushing
+    // c times, g . (g + (c - 1) sum_b psi_b grad W_ib); floored at 0 where the walls' share opposes g.
+    float divergence = dot(g, g) + squares;
+    float density = max(dot(g, g + (DFSPH_DENSITY_WALL_PUSH - 1.0) * wallGrad), 0.0) + squares;
+    bool surface = float(listed) + boundaryNeighbours < DFSPH_MIN_NEIGHBOURS;
+    dfsph[i] = vec4(density > 1e-6 ? 1.0 / density : 0.0,
+                    surface || divergence <= 1e-6 ? 0.0 : 1.0 / divergence, 0.0, 0.0);
     densityPressure[i] = vec2(rho, sphFetchVel(i).w);
+    accel[i] = vec4(-hydrostatic / rho, 0.0);
     atomicMax(groupMaxDensity, floatBitsToUint(rho));
   }
   barrier();

@@ -1,13 +1,14 @@
 // DFSPH non-pressure accelerations: gravity and viscosity (the WCSPH force pass's models without its
 // pressure term), evaluated on the divergence-free velocities, plus the constant-density solve's warm
-// start as a pressure acceleration (sim_dfsph_source.comp). Reduces max |v|^2 and max |a|^2 of these
-// accelerations for the displacement-bounded CFL step (sim_timestep.comp).
+// start as a pressure acceleration (sim_dfsph_source.comp) and the walls' hydrostatic push the factor
+// pass left in accel. Reduces max |v|^2 and max |a|^2 of the non-pressure accelerations for the
+// displacement-bounded CFL step (sim_timestep.comp).
 #define DFSPH_LIST_READ
 #include "sph_params.glsl"
 #include "sph_kernels.glsl"
 #include "sph_dfsph.glsl"
 layout(local_size_x = SIM_WG) in;
-layout(std430, binding = SPHFX_SSBO_SIM_ACCEL) writeonly buffer SimAccel { vec4 accel[]; };
+layout(std430, binding = SPHFX_SSBO_SIM_ACCEL) buffer SimAccel { vec4 accel[]; };
 shared uint groupMaxSpeed2, groupMaxAccel2;
 
 #if defined(VISCOSITY_ARTIFICIAL)
@@ -23,12 +24,12 @@ float artificialViscosity(vec3 vij, vec3 xij, float r2, float rhoSum) {
 // Viscosity and the warm-started pressure acceleration of particle i. Fluid neighbours come from the
 // substep's list (its entries hold m grad W), boundary samples from the grid (only rows near walls and
 // colliders hold any). `pressure` is the constant-density solve's warm start as an acceleration,
-// -sum_j (P_i + P_j) m grad W_ij - P_i sum_b psi_b grad W_ib with P = DFSPH_DENSITY_WARM_SHARE times the
+// -sum_j (P_i + P_j) m grad W_ij - 2 P_i sum_b psi_b grad W_ib with P = DFSPH_DENSITY_WARM_SHARE times the
 // last substep's total (vel.w): what the solve's warm pass used to apply in a list pass of its own
 // (sim_dfsph_source.comp then only predicts v* = v + dt a).
 void viscosityAndWarmPressure(uint i, vec3 xi, vec3 vi, float rhoi, float pi, out vec3 visc,
                               out vec3 pressure) {
-  vec3 fluid = vec3(0.0), wall = vec3(0.0), push = -pi * dfsphBoundary(i).xyz;
+  vec3 fluid = vec3(0.0), wall = vec3(0.0), push = -(DFSPH_DENSITY_WALL_PUSH * pi) * dfsphBoundary(i).xyz;
   uint count = dfsphCount(i);
   for (uint k = 0u; k < count; ++k) {
     vec4 e = dfsphEntry(i, k);
@@ -92,7 +93,7 @@ void main() {
     viscosityAndWarmPressure(i, xi, vi, sphFetchDensity(i).x, DFSPH_DENSITY_WARM_SHARE * v.w, visc, pressure);
     // The time step bounds the non-pressure acceleration only (the solve decides the pressure).
     vec3 a = simGravity.xyz + visc;
-    accel[i] = vec4(a + pressure, 0.0);
+    accel[i] = vec4(a + pressure + accel[i].xyz, 0.0);  // accel: the walls' hydrostatic push
     atomicMax(groupMaxSpeed2, floatBitsToUint(dot(vi, vi)));
     atomicMax(groupMaxAccel2, floatBitsToUint(dot(a, a)));
   }

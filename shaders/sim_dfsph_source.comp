@@ -67,9 +67,9 @@ void main() {
     if (uWarm != 0u) {
       inc = stateSubsteps > 0u ? DFSPH_WARM_SHARE * warm[floatBitsToUint(sphFetchPos(i).w)] : 0.0;
     } else {
-      // Too few neighbours (free surface, splashes): the divergence estimate is meaningless there.
-      float residual = f.y >= DFSPH_MIN_NEIGHBOURS ? densityChange(i) : 0.0;
-      inc = projectedIncrement(residual, f.x, f.w, error);
+      // Too few neighbours (free surface, splashes; factor 0): the divergence estimate is meaningless.
+      float residual = f.y > 0.0 ? densityChange(i) : 0.0;
+      inc = projectedIncrement(residual, f.y, f.w, error);
     }
 #else
     // Warm start: a share of the last substep's pressure total, carried in vel.w. The non-pressure pass

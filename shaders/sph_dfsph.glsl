@@ -6,7 +6,10 @@
 #include "sph_dfsph_bindings.glsl"
 #include "sph_textures.glsl"
 
-// x: alpha_i / rho_i = 1 / (|sum m grad W|^2 + sum |m grad W|^2), y: neighbours (fluid and boundary),
+// x: the constant-density solve's factor alpha_i / rho_i, 1 / (g . (g + sum_b psi_b grad W_ib) +
+// sum_j |m grad W_ij|^2) with g = sum_j m grad W_ij + sum_b psi_b grad W_ib (its walls push twice,
+// DFSPH_DENSITY_WALL_PUSH); y: the divergence solve's, 1 / (|g|^2 + sum_j |m grad W_ij|^2), or 0 where
+// the particle has too few neighbours for a divergence estimate (free surface, splashes);
 // z: density stiffness total P of this step, w: divergence stiffness total K of this step.
 layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_PARTICLE) buffer DfsphParticle { vec4 dfsph[]; };
 
@@ -31,6 +34,16 @@ layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_CONTROL) buffer DfsphControl {
 // density, was tried for D rho/Dt: its flat centre lets particles settle onto wall samples, and the tank
 // compressed more.
 #define dfsphGrad(d) sphSpikyGrad(d, length(d))
+
+// Walls in the constant-density solve carry the particle's stiffness mirrored onto every boundary
+// sample, P_b = P_i, plus the hydrostatic rise from the particle to the sample, g . (x_b - x_i) / rho_i
+// (Adami et al. 2012, as the WCSPH force): a sample pushes with (P_i + P_b) psi_b grad W, as a fluid
+// neighbour would. With P_i alone (Akinci 2012, SPlisHSPlasH's DFSPH) a particle on its resting lattice
+// site is pushed down by the fluid above and held by nothing (the walls' and the fluid's gradient sums
+// cancel there), so the bottom layer sank into the floor down to the clamp; the hydrostatic profile of
+// the resting tank was off by 0.61 (relative L2) against 0.20 now (docs/dfsph.md, "Walls"). The
+// divergence solve keeps the particle's own impulse (1 x): twice did not converge within its tolerance.
+const float DFSPH_DENSITY_WALL_PUSH = 2.0;
 
 // Neighbour lists, built once per substep by sim_dfsph_factor.comp and read by every solver iteration,
 // so that an iteration visits the ~30 neighbours of a particle instead of the ~200 candidates of its

@@ -32,17 +32,24 @@ int latticeNeighbours(double q) {
   return count - 1;
 }
 
-ShaderDefines withSlots(ShaderDefines d, int slots) {
-  d.set("DFSPH_MAX_NEIGHBORS", slots);
-  return d;
-}
-
 ShaderDefines withDensityWarmShare(ShaderDefines d) {
   d.set("DFSPH_DENSITY_WARM_SHARE", float(DFSPHSolver::kDensityWarmShare));
   return d;
 }
 
+// A particle with fewer than 60 % of a full neighbourhood is at the free surface; its divergence estimate
+// is skipped (SPlisHSPlasH uses 20 of 32 at the same support).
+double minNeighbours(const Scene& scene) {
+  return 0.6 * latticeNeighbours(scene.solver.kernelSupport);
+}
+
 }  // namespace
+
+ShaderDefines DFSPHSolver::factorDefines(const Scene& scene, ShaderDefines d) {
+  d.set("DFSPH_MAX_NEIGHBORS", listSlots(scene));
+  d.set("DFSPH_MIN_NEIGHBOURS", float(minNeighbours(scene)));
+  return d;
+}
 
 int DFSPHSolver::listSlots(const Scene& scene) {
   // Twice the mean neighbour count of a disordered fluid at the scene's densest start (4/3 pi q^3 per
@@ -61,9 +68,6 @@ DFSPHSolver::DFSPHSolver(const Scene& scene, const DispatchGate& gate, const Sha
       minIterations_(scene.solver.minIterations),
       minDivergenceIterations_(scene.solver.minDivergenceIterations),
       maxIterations_(scene.solver.maxIterations),
-      // A particle with fewer than 60 % of a full neighbourhood is at the free surface; its divergence
-      // estimate is skipped (SPlisHSPlasH uses 20 of 32 at the same support).
-      minNeighbours_(0.6 * latticeNeighbours(scene.solver.kernelSupport)),
       listSlots_(listSlots(scene)),
       particle_(size_t(std::max<uint32_t>(particles, 1)) * 16),
       increment_(size_t(std::max<uint32_t>(particles, 1)) * 4),
@@ -74,7 +78,7 @@ DFSPHSolver::DFSPHSolver(const Scene& scene, const DispatchGate& gate, const Sha
       neighbors_(size_t(std::max<uint32_t>(particles, 1)) * 16 * size_t(listSlots_ + 1)),
       boundary_(size_t(std::max<uint32_t>(particles, 1)) * 16),
       count_(size_t(std::max<uint32_t>(particles, 1)) * 4),
-      factor_(ShaderProgram::compute("sim_dfsph_factor.comp", withSlots(defines, listSlots_))),
+      factor_(ShaderProgram::compute("sim_dfsph_factor.comp", factorDefines(scene, defines))),
       nonPressure_(ShaderProgram::compute("sim_dfsph_nonpressure.comp", withDensityWarmShare(defines))) {
   checkListFitsTextureView();
   density_ = makeSolve(defines, false, scene.solver.maxDensityError, 0);
@@ -96,7 +100,6 @@ DFSPHSolver::Solve DFSPHSolver::makeSolve(ShaderDefines d, bool divergence, doub
   d.set("DFSPH_MAX_ITER", maxIterations_);
   d.set("DFSPH_GROUPS", groups_);
   d.set("DFSPH_GATE_WORD", gateWord);
-  d.set("DFSPH_MIN_NEIGHBOURS", float(minNeighbours_));
   d.set("DFSPH_OMEGA", float(kJacobiOmega));
   d.set("DFSPH_WARM_SHARE", float(divergence ? kDivergenceWarmShare : kDensityWarmShare));
   return {ShaderProgram::compute("sim_dfsph_begin.comp", d),

@@ -72,6 +72,10 @@ class DFSPHSolver : public PressureSolver {
   /// densest starting lattice; a particle with more fluid neighbours stops the run (kFailNeighbors).
   static int listSlots(const Scene& scene);
 
+  /// `defines` plus what sim_dfsph_factor.comp needs for `scene`: the list slots and the neighbour count
+  /// below which a particle gets no divergence correction (a divergence factor of 0).
+  static ShaderDefines factorDefines(const Scene& scene, ShaderDefines defines);
+
   /// Reads the statistics of the frames since the last frame start from the GPU (synchronises).
   DfsphFrameStats readFrameStats() const;
 
@@ -105,7 +109,6 @@ class DFSPHSolver : public PressureSolver {
   const DispatchGate* gate_;
   uint32_t particles_, groups_;
   int minIterations_, minDivergenceIterations_, maxIterations_;
-  double minNeighbours_;
   int listSlots_;
   GpuBuffer particle_, increment_, warm_, partial_, control_, neighbors_, boundary_, count_;
   ShaderProgram factor_, nonPressure_;
