@@ -66,8 +66,13 @@ Walls readWalls(const std::string& shot) {
       w.min[size_t(a)] = domain.at("min").at(size_t(a)).get<double>();
       w.max[size_t(a)] = domain.at("max").at(size_t(a)).get<double>();
     }
-    for (const auto& axis : domain.value("periodic", nlohmann::json::array()))
-      w.wall[size_t(std::string("xyz").find(axis.get<std::string>()))] = false;
+    for (const auto& axis : domain.value("periodic", nlohmann::json::array())) {
+      const size_t a = std::string("xyz").find(axis.get<std::string>());
+      if (axis.get<std::string>().size() != 1 || a == std::string::npos)
+        throw std::runtime_error(path + ": simulate.scene.domain.periodic: expected \"x\", \"y\" or \"z\", got " +
+                                 axis.dump());
+      w.wall[a] = false;
+    }
     return w;
   } catch (const nlohmann::json::exception& e) {
     throw std::runtime_error(path + ": expected simulate.scene.domain with min, max and periodic (" +

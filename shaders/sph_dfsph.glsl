@@ -41,7 +41,7 @@ layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_CONTROL) buffer DfsphControl {
 // neighbour would. With P_i alone (Akinci 2012, SPlisHSPlasH's DFSPH) a particle on its resting lattice
 // site is pushed down by the fluid above and held by nothing (the walls' and the fluid's gradient sums
 // cancel there), so the bottom layer sank into the floor down to the clamp; the hydrostatic profile of
-// the resting tank was off by 0.61 (relative L2) against 0.20 now (docs/dfsph.md, "Walls"). The
+// the resting tank was off by 0.61 (relative L2) against 0.24 now (docs/dfsph.md, "Walls"). The
 // divergence solve keeps the particle's own impulse (1 x): twice did not converge within its tolerance.
 const float DFSPH_DENSITY_WALL_PUSH = 2.0;
 
