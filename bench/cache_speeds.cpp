@@ -13,16 +13,15 @@
 #include <cmath>
 #include <cstdio>
 #include <exception>
-#include <fstream>
 #include <numeric>
 #include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
+#include "sphfx/core/manifest.h"
 #include "sphfx/core/particle_cache.h"
+#include "sphfx/core/scene.h"
 
 namespace {
 
@@ -49,50 +48,30 @@ void printParticle(const char* label, float value, const sphfx::ParticleFrame& f
               v[0], v[1], v[2]);
 }
 
-// The domain's walls: min and max corners, periodic axes left out (no wall there).
-struct Walls {
-  std::array<double, 3> min{}, max{};
-  std::array<bool, 3> wall{true, true, true};
-};
-
-Walls readWalls(const std::string& shot) {
-  const std::string path = shot + "/manifest.json";
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error(path + ": cannot open (--near-walls needs the shot's manifest)");
-  try {
-    const nlohmann::json domain = nlohmann::json::parse(in).at("simulate").at("scene").at("domain");
-    Walls w;
-    for (int a = 0; a < 3; ++a) {
-      w.min[size_t(a)] = domain.at("min").at(size_t(a)).get<double>();
-      w.max[size_t(a)] = domain.at("max").at(size_t(a)).get<double>();
-    }
-    for (const auto& axis : domain.value("periodic", nlohmann::json::array())) {
-      const size_t a = std::string("xyz").find(axis.get<std::string>());
-      if (axis.get<std::string>().size() != 1 || a == std::string::npos)
-        throw std::runtime_error(path + ": simulate.scene.domain.periodic: expected \"x\", \"y\" or \"z\", got " +
-                                 axis.dump());
-      w.wall[a] = false;
-    }
-    return w;
-  } catch (const nlohmann::json::exception& e) {
-    throw std::runtime_error(path + ": expected simulate.scene.domain with min, max and periodic (" +
-                             e.what() + ")");
-  }
+// The shot's domain, from the scene its manifest records (sphfx simulate writes it).
+sphfx::Domain readDomain(const std::string& shot) {
+  const sphfx::ManifestJson m = sphfx::readManifest(shot);
+  if (!m.contains("simulate") || !m["simulate"].contains("scene"))
+    throw std::runtime_error(sphfx::manifestPath(shot) +
+                             ": no simulate.scene (--near-walls reads the domain there)");
+  return sphfx::parseScene(m["simulate"]["scene"], sphfx::manifestPath(shot) + " (simulate.scene)").domain;
 }
 
 // The nearest wall (0 x-min, 1 x-max, 2 y-min, ...) and the distance to it in particle spacings.
-std::pair<size_t, double> nearestWall(const Walls& w, const std::array<float, 3>& p, double spacing) {
+// Periodic axes have no walls.
+std::pair<size_t, double> nearestWall(const sphfx::Domain& w, const std::array<float, 3>& p, double spacing) {
   std::pair<size_t, double> nearest{0, INFINITY};
-  for (size_t a = 0; a < 3; ++a) {
-    if (!w.wall[a]) continue;
-    const double low = double(p[a]) - w.min[a], high = w.max[a] - double(p[a]);
-    if (low < nearest.second) nearest = {2 * a, low};
-    if (high < nearest.second) nearest = {2 * a + 1, high};
+  for (int a = 0; a < 3; ++a) {
+    if (w.isPeriodic(a)) continue;
+    const double low = double(p[size_t(a)]) - w.min[size_t(a)],
+                 high = w.max[size_t(a)] - double(p[size_t(a)]);
+    if (low < nearest.second) nearest = {size_t(2 * a), low};
+    if (high < nearest.second) nearest = {size_t(2 * a + 1), high};
   }
   return {nearest.first, nearest.second / spacing};
 }
 
-void reportNearWalls(const Walls& w, const sphfx::ParticleFrame& f) {
+void reportNearWalls(const sphfx::Domain& w, const sphfx::ParticleFrame& f) {
   static const char* names[6] = {"x-min", "x-max", "y-min", "y-max", "z-min", "z-max"};
   std::array<size_t, 6> within01{}, within025{};
   for (const auto& p : f.position) {
@@ -110,7 +89,8 @@ void reportNearWalls(const Walls& w, const sphfx::ParticleFrame& f) {
   line("0.25", within025);
 }
 
-void report(const std::string& shot, int frameNumber, size_t top, size_t densest, const Walls* walls) {
+void report(const std::string& shot, int frameNumber, size_t top, size_t densest,
+            const sphfx::Domain* walls) {
   const std::string path = sphfx::particleCachePath(shot, frameNumber);
   const sphfx::ParticleFrame f = sphfx::readParticleCache(path);
   const std::vector<size_t> fastest = largest(f.size(), top, [&](size_t i) { return speed(f.velocity[i]); });
@@ -170,7 +150,7 @@ int main(int argc, char** argv) {
       else
         frames.push_back(parseFrame(argv[i]));
     }
-    const Walls walls = nearWalls ? readWalls(argv[1]) : Walls{};
+    const sphfx::Domain walls = nearWalls ? readDomain(argv[1]) : sphfx::Domain{};
     for (int frame : frames) report(argv[1], frame, top, densest, nearWalls ? &walls : nullptr);
     return 0;
   } catch (const std::exception& e) {
