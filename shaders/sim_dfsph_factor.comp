@@ -1,6 +1,7 @@
-// DFSPH step start: density (poly6, fluid and Akinci 2012 boundary samples psi W), the factors
+// DFSPH step start: density (fluid: poly6; Akinci 2012 boundary samples: psi W with the spiky kernel,
+// dfsphWallScale() in sph_dfsph.glsl), the factors
 // alpha_i / rho_i of both solves (Bender & Koschier 2017, eq. 9, boundary in the first sum only; gW the
-// spiky gradient; the constant-density solve's walls push twice: sph_dfsph.glsl), and the neighbour
+// spiky gradient; the constant-density solve's walls push DFSPH_DENSITY_WALL_PUSH times: sph_dfsph.glsl), and the neighbour
 // list every solver iteration of this substep reads. The walls' hydrostatic push, -sum_b psi_b
 // (g . (x_b - x_i) / rho_i) grad W_ib, goes to accel, to which the non-pressure pass adds the rest of
 // the step's acceleration. The cache's pressure is the last step's density stiffness, carried in vel.w.
@@ -49,8 +50,9 @@ void main() {
           vec4 b = sphFetchBoundaryPos(j);
           vec3 d = xi - b.xyz;
           float r2 = dot(d, d);
-          wall += b.w * sphPoly6(r2);
-          vec3 g = b.w * dfsphGrad(d);
+          float psi = b.w * dfsphWallScale(b.xyz), r = sqrt(r2), q = max(simDomainMin.w - r, 0.0);
+          wall += psi * (-simKernel.y / 3.0) * q * q * q;  // spiky W = 15 / (pi h^6) (h - r)^3
+          vec3 g = psi * sphSpikyGrad(d, r);
           wallGrad += g;
           hydrostatic -= dot(simGravity.xyz, d) * g;  // g . (x_b - x_i) psi_b grad W_ib
 #if defined(HAS_COLLIDERS)

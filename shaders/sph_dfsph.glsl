@@ -6,9 +6,9 @@
 #include "sph_dfsph_bindings.glsl"
 #include "sph_textures.glsl"
 
-// x: the constant-density solve's factor alpha_i / rho_i, 1 / (g . (g + sum_b psi_b grad W_ib) +
-// sum_j |m grad W_ij|^2) with g = sum_j m grad W_ij + sum_b psi_b grad W_ib (its walls push twice,
-// DFSPH_DENSITY_WALL_PUSH); y: the divergence solve's, 1 / (|g|^2 + sum_j |m grad W_ij|^2), or 0 where
+// x: the constant-density solve's factor alpha_i / rho_i, 1 / (g . (g + (c - 1) sum_b psi_b grad W_ib) +
+// sum_j |m grad W_ij|^2) with g = sum_j m grad W_ij + sum_b psi_b grad W_ib (its walls push c =
+// DFSPH_DENSITY_WALL_PUSH times; psi_b here includes dfsphWallScale()); y: the divergence solve's, 1 / (|g|^2 + sum_j |m grad W_ij|^2), or 0 where
 // the particle has too few neighbours for a divergence estimate (free surface, splashes);
 // z: density stiffness total P of this step, w: divergence stiffness total K of this step.
 layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_PARTICLE) buffer DfsphParticle { vec4 dfsph[]; };
@@ -35,15 +35,34 @@ layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_CONTROL) buffer DfsphControl {
 // compressed more.
 #define dfsphGrad(d) sphSpikyGrad(d, length(d))
 
-// Walls in the constant-density solve carry the particle's stiffness mirrored onto every boundary
-// sample, P_b = P_i, plus the hydrostatic rise from the particle to the sample, g . (x_b - x_i) / rho_i
-// (Adami et al. 2012, as the WCSPH force): a sample pushes with (P_i + P_b) psi_b grad W, as a fluid
-// neighbour would. With P_i alone (Akinci 2012, SPlisHSPlasH's DFSPH) a particle on its resting lattice
-// site is pushed down by the fluid above and held by nothing (the walls' and the fluid's gradient sums
-// cancel there), so the bottom layer sank into the floor down to the clamp; the hydrostatic profile of
-// the resting tank was off by 0.61 (relative L2) against 0.24 now (docs/dfsph.md, "Walls"). The
+// Walls in the DFSPH density and in every DFSPH gradient sum: psi_b times the spiky kernel (the kernel
+// whose gradient the solves use) weighted by dfsphWallScale(), so that a particle pressed into a wall
+// sees its density rise steeply: 9 % at 0.2 spacings from a flat wall's resting site, against 1.1 %
+// with poly6, whose flat centre let the bottom layer sink towards the samples (docs/dfsph.md, "Spiky
+// walls"). The weights (DFSPHSolver::spikyWallScales) make the resting lattice sum to the poly6 rest
+// density next to faces, edges and corners: a sample beyond one, two or three of the domain's walls
+// (collider samples, inside the domain, count as a face).
+// (Defined for sim_dfsph_factor.comp only: DFSPHSolver::factorDefines.)
+#if defined(DFSPH_WALL_SPIKY_FACE)
+float dfsphWallScale(vec3 xb) {
+  vec3 beyond = step(simDomainMax.xyz, xb) + step(xb, simDomainMin.xyz);
+  float walls = beyond.x + beyond.y + beyond.z;
+  return walls > 2.5 ? DFSPH_WALL_SPIKY_CORNER : (walls > 1.5 ? DFSPH_WALL_SPIKY_EDGE : DFSPH_WALL_SPIKY_FACE);
+}
+#endif
+
+// Walls in the constant-density solve carry part of the particle's stiffness mirrored onto every
+// boundary sample, P_b = 0.5 P_i, plus the hydrostatic rise from the particle to the sample,
+// g . (x_b - x_i) / rho_i (after Adami et al. 2012, as the WCSPH force): a sample pushes with
+// (P_i + P_b) psi_b grad W. With P_i alone (Akinci 2012, SPlisHSPlasH's DFSPH) a particle on its resting
+// lattice site is pushed down by the fluid above and held by nothing (the walls' and the fluid's
+// gradient sums cancel there), so the bottom layer sank into the floor down to the clamp; the resting
+// tank's hydrostatic profile was off by 0.61 (relative L2). The full mirror (P_b = P_i, 2 x) held it
+// with poly6 walls (0.24), but with the stiffer spiky walls above the projected Jacobi iteration then
+// diverges from rest (the tank's first solve: 2000 iterations, 0.48 %, 2.8 m/s); 1.25 / 1.5 / 1.75 x
+// take 42 / 80 / 197 iterations there with L2 0.27 / 0.24 / 0.22 (docs/dfsph.md, "Spiky walls"). The
 // divergence solve keeps the particle's own impulse (1 x): twice did not converge within its tolerance.
-const float DFSPH_DENSITY_WALL_PUSH = 2.0;
+const float DFSPH_DENSITY_WALL_PUSH = 1.5;
 
 // Neighbour lists, built once per substep by sim_dfsph_factor.comp and read by every solver iteration,
 // so that an iteration visits the ~30 neighbours of a particle instead of the ~200 candidates of its

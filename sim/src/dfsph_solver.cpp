@@ -48,7 +48,50 @@ double minNeighbours(const Scene& scene) {
 ShaderDefines DFSPHSolver::factorDefines(const Scene& scene, ShaderDefines d) {
   d.set("DFSPH_MAX_NEIGHBORS", listSlots(scene));
   d.set("DFSPH_MIN_NEIGHBOURS", float(minNeighbours(scene)));
+  const std::array<double, 3> wall = spikyWallScales(scene.solver.kernelSupport);
+  d.set("DFSPH_WALL_SPIKY_FACE", float(wall[0]));
+  d.set("DFSPH_WALL_SPIKY_EDGE", float(wall[1]));
+  d.set("DFSPH_WALL_SPIKY_CORNER", float(wall[2]));
   return d;
+}
+
+std::array<double, 3> DFSPHSolver::spikyWallScales(double support) {
+  // Lattice sums in units of the spacing around the site (0.5, 0.5, 0.5) next to the walls x, y, z < 0
+  // (the first `walls` of them): the fluid's poly6 sum, and per class (axes beyond a wall) the samples'
+  // poly6 and spiky sums. Kernel normalisations cancel in the ratios except between the two kernels.
+  const double h = support, h2 = h * h;
+  const auto poly6 = [&](double r2) {
+    return r2 < h2 ? 315 / (64 * std::numbers::pi * std::pow(h, 9)) * std::pow(h2 - r2, 3) : 0.0;
+  };
+  const auto spiky = [&](double r2) {
+    const double r = std::sqrt(r2);
+    return r < h ? 15 / (std::numbers::pi * std::pow(h, 6)) * std::pow(h - r, 3) : 0.0;
+  };
+  const int n = int(std::ceil(h)) + 1;
+  struct Sums {
+    std::array<double, 4> poly6{}, spiky{};
+  };
+  const auto sums = [&](int walls) {
+    Sums s;
+    for (int x = -n; x <= n; ++x)
+      for (int y = -n; y <= n; ++y)
+        for (int z = -n; z <= n; ++z) {
+          const int cls = (walls > 0 && x < 0) + (walls > 1 && y < 0) + (walls > 2 && z < 0);
+          const double r2 = double(x * x + y * y + z * z);
+          s.poly6[size_t(cls)] += poly6(r2);
+          s.spiky[size_t(cls)] += spiky(r2);
+        }
+    return s;
+  };
+  // Each class is fixed by the first site that sees it, given the classes before it.
+  std::array<double, 3> c{};
+  for (int k = 1; k <= 3; ++k) {
+    const Sums s = sums(k);
+    double rest = s.poly6[size_t(k)];
+    for (int j = 1; j < k; ++j) rest += s.poly6[size_t(j)] - c[size_t(j - 1)] * s.spiky[size_t(j)];
+    c[size_t(k - 1)] = rest / s.spiky[size_t(k)];
+  }
+  return c;
 }
 
 int DFSPHSolver::listSlots(const Scene& scene) {

@@ -240,6 +240,29 @@ TEST_F(DFSPH, HydrostaticTankReachesRestDensityAndPressureProfile) {
   EXPECT_LT(vmax, 0.3) << "the tank should be nearly at rest";
 }
 
+// The walls enter the DFSPH density with the spiky kernel, weighted per sample class (faces, edges,
+// corners: DFSPHSolver::spikyWallScales) so that the resting lattice is at rest density everywhere. The
+// tank's starting lattice touches five walls; every particle below the free-surface rows, corners and
+// edges included, must start at rho0 as the factor pass sums it on the GPU. With the face weight
+// everywhere, edges start 0.6 % and corners 1.7 % compressed.
+TEST_F(DFSPH, WallsKeepTheRestingLatticeAtRestDensity) {
+  const std::array<double, 3> c = DFSPHSolver::spikyWallScales(2.0);
+  EXPECT_GT(c[0], 1.3);  // the spiky kernel sums lower than poly6 over a wall half space at h = 2 d
+  const Scene s = scene("hydrostatic.json", {"fluid.spacing=0.02"});
+  Simulator sim(s);
+  const ParticleFrame f = sim.cacheFrame();
+  const double height = 0.3, h = s.kernelRadius(), rho0 = s.fluid.restDensity;
+  int checked = 0;
+  double worst = 0;
+  for (size_t i = 0; i < f.size(); ++i) {
+    if (f.position[i][1] > height - h) continue;  // free-surface rows lack neighbours
+    worst = std::max(worst, std::abs(f.density[i] / rho0 - 1));
+    ++checked;
+  }
+  EXPECT_GT(checked, 1000);
+  EXPECT_LT(worst, 1e-4) << "largest relative deviation from rest density at the start";
+}
+
 // The divergence solve leaves an average compression rate below its tolerance, and warm starting keeps
 // the iteration counts low once the flow has settled.
 TEST_F(DFSPH, DivergenceSolveMeetsItsTolerance) {

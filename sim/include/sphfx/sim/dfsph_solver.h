@@ -14,6 +14,7 @@
 /// the GPU ends a solve by emptying its indirect dispatches, and the CPU checks that flag only every
 /// kCheckEvery iterations.
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <utility>
@@ -72,9 +73,18 @@ class DFSPHSolver : public PressureSolver {
   /// densest starting lattice; a particle with more fluid neighbours stops the run (kFailNeighbors).
   static int listSlots(const Scene& scene);
 
-  /// `defines` plus what sim_dfsph_factor.comp needs for `scene`: the list slots and the neighbour count
-  /// below which a particle gets no divergence correction (a divergence factor of 0).
+  /// `defines` plus what sim_dfsph_factor.comp needs for `scene`: the list slots, the neighbour count
+  /// below which a particle gets no divergence correction (a divergence factor of 0), and the walls'
+  /// spiky density weights (spikyWallScales()).
   static ShaderDefines factorDefines(const Scene& scene, ShaderDefines defines);
+
+  /// Weights of the wall samples' spiky density term, by how many of the domain's walls a sample lies
+  /// beyond: [0] one (faces; also every collider sample), [1] two (edges), [2] three (corners). The walls
+  /// enter the DFSPH density with the spiky kernel, the kernel whose gradient the solves use, so that a
+  /// particle pressed into a wall sees its density rise steeply (poly6 is flat at short range); the
+  /// weights make the resting lattice (fluid and samples on one lattice of spacing d, kernel support
+  /// `support` d) sum to the poly6 rest density at faces, edges and corners alike. Throws nothing.
+  static std::array<double, 3> spikyWallScales(double support);
 
   /// Reads the statistics of the frames since the last frame start from the GPU (synchronises).
   DfsphFrameStats readFrameStats() const;
