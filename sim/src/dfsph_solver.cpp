@@ -60,12 +60,11 @@ std::array<double, 3> DFSPHSolver::spikyWallScales(double support) {
   // (the first `walls` of them): the fluid's poly6 sum, and per class (axes beyond a wall) the samples'
   // poly6 and spiky sums. Kernel normalisations cancel in the ratios except between the two kernels.
   const double h = support, h2 = h * h;
-  const auto poly6 = [&](double r2) {
-    return r2 < h2 ? 315 / (64 * std::numbers::pi * std::pow(h, 9)) * std::pow(h2 - r2, 3) : 0.0;
-  };
+  const KernelFactors k = kernelFactors(h);  // the shaders' kernels; spiky W = -spikyGradient / 3 (h - r)^3
+  const auto poly6 = [&](double r2) { return r2 < h2 ? k.poly6 * std::pow(h2 - r2, 3) : 0.0; };
   const auto spiky = [&](double r2) {
     const double r = std::sqrt(r2);
-    return r < h ? 15 / (std::numbers::pi * std::pow(h, 6)) * std::pow(h - r, 3) : 0.0;
+    return r < h ? -k.spikyGradient / 3 * std::pow(h - r, 3) : 0.0;
   };
   const int n = int(std::ceil(h)) + 1;
   struct Sums {
