@@ -151,7 +151,7 @@ std::shared_ptr<const Object<SolverSettings>> solverSchema() {
                  "DFSPH: minimum pressure iterations per step.")
         .integer("max_iterations", &SolverSettings::maxIterations, 200, "", Range::closed(1, 100000),
                  "DFSPH: maximum pressure iterations per step (each solve). The first step of a dam "
-                 "break from rest needs 131 at the default spacing (SPlisHSPlasH's 100 left it at 0.13 %).")
+                 "break from rest needs 144 at the default spacing (SPlisHSPlasH's 100 left it at 0.14 %).")
         .integer("min_divergence_iterations", &SolverSettings::minDivergenceIterations, 1, "",
                  Range::closed(1, 1000),
                  "DFSPH: minimum divergence iterations per step (SPlisHSPlasH's 1; the warm start comes "

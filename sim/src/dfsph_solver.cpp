@@ -84,11 +84,11 @@ std::array<double, 3> DFSPHSolver::spikyWallScales(double support) {
   };
   // Each class is fixed by the first site that sees it, given the classes before it.
   std::array<double, 3> c{};
-  for (int k = 1; k <= 3; ++k) {
-    const Sums s = sums(k);
-    double rest = s.poly6[size_t(k)];
-    for (int j = 1; j < k; ++j) rest += s.poly6[size_t(j)] - c[size_t(j - 1)] * s.spiky[size_t(j)];
-    c[size_t(k - 1)] = rest / s.spiky[size_t(k)];
+  for (int cls = 1; cls <= 3; ++cls) {
+    const Sums s = sums(cls);
+    double rest = s.poly6[size_t(cls)];
+    for (int j = 1; j < cls; ++j) rest += s.poly6[size_t(j)] - c[size_t(j - 1)] * s.spiky[size_t(j)];
+    c[size_t(cls - 1)] = rest / s.spiky[size_t(cls)];
   }
   return c;
 }
