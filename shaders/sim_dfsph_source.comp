@@ -26,6 +26,11 @@ layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_PARTIAL) writeonly buffer DfsphPar
 layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_WARM) readonly buffer DfsphWarm { float warm[]; };
 #endif
 uniform uint uWarm;
+#if defined(DFSPH_MOMENTUM)
+// DFSPH_MOMENTUM from the solve's second iteration on, 0 in its first (the increment buffer then holds
+// the warm start, not an iteration's increment).
+uniform float uMomentum;
+#endif
 shared float groupSum[SIM_WG];
 
 // D rho_i / Dt = sum_j m (v_i - v_j) . grad W_ij + sum_b psi_b (v_i - v_b) . grad W_ib, from the list.
@@ -46,10 +51,17 @@ float densityChange(uint i) {
 }
 
 // Projected Jacobi (the stiffness total stays >= 0, as pressure in IISPH): the signed residual moves the
-// total up or down; the increment is the change of the clamped total. Returns the increment; `error` is
-// the residual where the constraint is active (compressed, or still carrying stiffness), else 0.
-float projectedIncrement(float residual, float scale, float total, out float error) {
-  float next = max(total + DFSPH_OMEGA * residual * scale, 0.0);
+// total up or down; the increment is the change of the clamped total. With DFSPH_MOMENTUM the step adds
+// that share of the particle's previous increment (heavy ball, Polyak 1964: the smooth, slowly
+// converging modes of a tall column keep their speed; docs/dfsph.md "Momentum"). Returns the increment;
+// `error` is the residual where the constraint is active (compressed, or still carrying stiffness),
+// else 0.
+float projectedIncrement(uint i, float residual, float scale, float total, out float error) {
+  float step = DFSPH_OMEGA * residual * scale;
+#if defined(DFSPH_MOMENTUM)
+  step += uMomentum * dfsphIncrement(i);
+#endif
+  float next = max(total + step, 0.0);
   error = (residual > 0.0 || total > 0.0) ? abs(residual) : 0.0;
   return next - total;
 }
@@ -69,7 +81,7 @@ void main() {
     } else {
       // Too few neighbours (free surface, splashes; factor 0): the divergence estimate is meaningless.
       float residual = f.y > 0.0 ? densityChange(i) : 0.0;
-      inc = projectedIncrement(residual, f.y, f.w, error);
+      inc = projectedIncrement(i, residual, f.y, f.w, error);
     }
 #else
     // Warm start: a share of the last substep's pressure total, carried in vel.w. The non-pressure pass
@@ -86,7 +98,7 @@ void main() {
     } else {
       float dt = stateDt;
       float residual = sphFetchDensity(i).x + dt * densityChange(i) - simFluid.x;
-      inc = projectedIncrement(residual, f.x / (dt * dt), f.z, error);
+      inc = projectedIncrement(i, residual, f.x / (dt * dt), f.z, error);
     }
 #endif
     increment[i] = inc;

@@ -110,6 +110,7 @@ DFSPHSolver::DFSPHSolver(const Scene& scene, const DispatchGate& gate, const Sha
       minIterations_(scene.solver.minIterations),
       minDivergenceIterations_(scene.solver.minDivergenceIterations),
       maxIterations_(scene.solver.maxIterations),
+      momentum_(float(scene.solver.jacobiMomentum)),
       listSlots_(listSlots(scene)),
       particle_(size_t(std::max<uint32_t>(particles, 1)) * 16),
       increment_(size_t(std::max<uint32_t>(particles, 1)) * 4),
@@ -143,6 +144,7 @@ DFSPHSolver::Solve DFSPHSolver::makeSolve(ShaderDefines d, bool divergence, doub
   d.set("DFSPH_GROUPS", groups_);
   d.set("DFSPH_GATE_WORD", gateWord);
   d.set("DFSPH_OMEGA", float(kJacobiOmega));
+  if (momentum_ > 0) d.set("DFSPH_MOMENTUM");
   d.set("DFSPH_WARM_SHARE", float(divergence ? kDivergenceWarmShare : kDensityWarmShare));
   return {ShaderProgram::compute("sim_dfsph_begin.comp", d),
           ShaderProgram::compute("sim_dfsph_source.comp", d),
@@ -217,10 +219,14 @@ void DFSPHSolver::run(const Solve& s, const char* label, PassTimer& timer) const
   dispatch(s.source, kSourceEntry, "sim_dfsph_source.comp");
   if (s.applyWarmStart) dispatch(s.apply, kApplyEntry, "sim_dfsph_apply.comp");
   glProgramUniform1ui(s.source.id(), warm, 0u);
+  // The first iteration has no increment of its own to carry on (the buffer holds the warm start).
+  const GLint momentum = momentum_ > 0 ? s.source.uniform("uMomentum") : -1;
+  glProgramUniform1f(s.source.id(), momentum, 0.0f);
   // maxIterations_ + 1 reductions: the last one records a solve that ran out of iterations.
   for (int it = 0; it <= maxIterations_;) {
     for (int k = 0; k < kCheckEvery && it <= maxIterations_; ++k, ++it) {
       dispatch(s.source, kSourceEntry, "sim_dfsph_source.comp");
+      if (it == 0) glProgramUniform1f(s.source.id(), momentum, momentum_);
       dispatch(s.reduce, kReduceEntry, "sim_dfsph_reduce.comp");
       glMemoryBarrier(GL_COMMAND_BARRIER_BIT);
       dispatch(s.apply, kApplyEntry, "sim_dfsph_apply.comp");

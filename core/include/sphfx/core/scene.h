@@ -72,6 +72,7 @@ struct SolverSettings {
   int minIterations = 0;
   int minDivergenceIterations = 0;
   int maxIterations = 0;
+  double jacobiMomentum = 0;  ///< DFSPH: heavy-ball share of the previous Jacobi increment
 };
 
 struct TimeSettings {

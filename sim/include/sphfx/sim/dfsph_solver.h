@@ -119,6 +119,7 @@ class DFSPHSolver : public PressureSolver {
   const DispatchGate* gate_;
   uint32_t particles_, groups_;
   int minIterations_, minDivergenceIterations_, maxIterations_;
+  float momentum_;
   int listSlots_;
   GpuBuffer particle_, increment_, warm_, partial_, control_, neighbors_, boundary_, count_;
   ShaderProgram factor_, nonPressure_;
