@@ -27,8 +27,8 @@ layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_WARM) readonly buffer DfsphWarm { 
 #endif
 uniform uint uWarm;
 #if defined(DFSPH_MOMENTUM)
-// DFSPH_MOMENTUM from the solve's second iteration on, 0 in its first (the increment buffer then holds
-// the warm start, not an iteration's increment).
+// solver.jacobi_momentum from the solve's second iteration on, 0 in its first (the increment buffer then
+// holds the warm start, not an iteration's increment). Compiled in only when the scene's momentum > 0.
 uniform float uMomentum;
 #endif
 shared float groupSum[SIM_WG];
@@ -51,11 +51,10 @@ float densityChange(uint i) {
 }
 
 // Projected Jacobi (the stiffness total stays >= 0, as pressure in IISPH): the signed residual moves the
-// total up or down; the increment is the change of the clamped total. With DFSPH_MOMENTUM the step adds
-// that share of the particle's previous increment (heavy ball, Polyak 1964: the smooth, slowly
-// converging modes of a tall column keep their speed; docs/dfsph.md "Momentum"). Returns the increment;
-// `error` is the residual where the constraint is active (compressed, or still carrying stiffness),
-// else 0.
+// total up or down; the increment is the change of the clamped total. The step adds the share uMomentum
+// of the particle's previous increment (heavy ball, Polyak 1964: the smooth, slowly converging modes of
+// a tall column keep their speed; docs/dfsph.md "Momentum"). Returns the increment; `error` is the
+// residual where the constraint is active (compressed, or still carrying stiffness), else 0.
 float projectedIncrement(uint i, float residual, float scale, float total, out float error) {
   float step = DFSPH_OMEGA * residual * scale;
 #if defined(DFSPH_MOMENTUM)
