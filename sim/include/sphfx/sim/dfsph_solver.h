@@ -93,8 +93,8 @@ class DFSPHSolver : public PressureSolver {
   static constexpr int kCheckEvery = 3;
   /// Relaxation of the projected Jacobi updates: stiffness totals move up and down (clamped at 0), which
   /// diverges at 1 on the dam break, and at 0.65 from rest; 0.5 as IISPH's relaxed Jacobi. The iterations
-  /// are accelerated by momentum instead (solver.jacobi_momentum, docs/dfsph.md "Momentum"). (The one-sided update of
-  /// SPlisHSPlasH, which only adds, converges at 1 but sent the dam-break front 77 % off with our
+  /// are accelerated by momentum instead (solver.jacobi_momentum, docs/dfsph.md "Momentum"). (The one-sided
+  /// update of SPlisHSPlasH, which only adds, converges at 1 but sent the dam-break front 77 % off with our
   /// spiky-gradient operator; docs/dfsph.md.)
   static constexpr double kJacobiOmega = 0.5;
   /// Shares of the last substep's stiffness totals the solves start from (warm start). The full totals
