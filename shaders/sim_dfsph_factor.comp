@@ -4,7 +4,8 @@
 // spiky gradient; the constant-density solve's walls push DFSPH_DENSITY_WALL_PUSH times:
 // sph_dfsph.glsl), and the neighbour list every solver iteration of this substep reads. The walls'
 // hydrostatic push, -sum_b psi_b (g . (x_b - x_i) / rho_i) grad W_ib, goes to accel, to which the
-// non-pressure pass adds the rest of the step's acceleration. The cache's pressure is the last step's density stiffness, carried in vel.w.
+// non-pressure pass adds the rest of the step's acceleration. The cache's pressure is the last step's
+// density stiffness, carried in vel.w.
 // Reduces the largest density (health).
 #define DFSPH_LIST_WRITE
 #include "sph_params.glsl"

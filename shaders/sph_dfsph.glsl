@@ -9,7 +9,8 @@
 // x: the constant-density solve's factor alpha_i / rho_i, 1 / (g . (g + (c - 1) sum_b psi_b grad W_ib) +
 // sum_j |m grad W_ij|^2) with g = sum_j m grad W_ij + sum_b psi_b grad W_ib (its walls push c =
 // DFSPH_DENSITY_WALL_PUSH times; psi_b here includes dfsphWallScale()); y: the divergence solve's,
-// 1 / (|g|^2 + sum_j |m grad W_ij|^2), or 0 where the particle has too few neighbours for a divergence estimate (free surface, splashes);
+// 1 / (|g|^2 + sum_j |m grad W_ij|^2), or 0 where the particle has too few neighbours for a divergence
+// estimate (free surface, splashes);
 // z: density stiffness total P of this step, w: divergence stiffness total K of this step.
 layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_PARTICLE) buffer DfsphParticle { vec4 dfsph[]; };
 
