@@ -44,5 +44,6 @@
 #define SPHFX_SSBO_SIM_SCAN_DATA 10
 #define SPHFX_SSBO_SIM_SCAN_SUMS 11
 #define SPHFX_SSBO_SIM_GRID_NEIGHBORS 12
+#define SPHFX_SSBO_SIM_GRID_ROW_START 13 /* with SIM_GRID_SPLIT_X: the walks' starts (NeighborGrid) */
 
 #endif

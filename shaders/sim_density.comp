@@ -34,7 +34,7 @@ void main() {
     for (int dz = -1; dz <= 1; ++dz)
       for (int dy = -1; dy <= 1; ++dy) {
         uint first, last, fluidMask = 0u, wallMask = 0u;
-        if (sphRow(cell, dy, dz, first, last)) {
+        if (sphRow(xi, cell, dy, dz, first, last)) {
           uint f0 = cellStart[first], b0 = bStart[first];
           for (uint j = f0, e = cellStart[last]; j < e; ++j) {
             vec3 d = sphDelta(xi, pos[j].xyz);

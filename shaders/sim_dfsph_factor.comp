@@ -31,7 +31,7 @@ void main() {
     for (int dz = -1; dz <= 1; ++dz)
       for (int dy = -1; dy <= 1; ++dy) {
         uint first, last;
-        if (!sphRow(cell, dy, dz, first, last)) continue;
+        if (!sphRow(xi, cell, dy, dz, first, last)) continue;
         // No branch per candidate: the kernels are 0 beyond h (and the gradient at r = 0), and every
         // candidate is written to the next free slot, which only a neighbour advances (the slot after
         // the last neighbour holds a stale candidate; the list has one spare slot for it). On llvmpipe a

@@ -53,7 +53,7 @@ void viscosityAndWarmPressure(uint i, vec3 xi, vec3 vi, float rhoi, float pi, ou
   for (int dz = -1; dz <= 1; ++dz)
     for (int dy = -1; dy <= 1; ++dy) {
       uint first, last;
-      if (!sphRow(cell, dy, dz, first, last)) continue;
+      if (!sphRow(xi, cell, dy, dz, first, last)) continue;
       for (uint j = sphFetchBoundaryCellStart(first), e = sphFetchBoundaryCellStart(last); j < e; ++j) {
         vec4 b = sphFetchBoundaryPos(j);
         vec3 d = xi - b.xyz;

@@ -120,7 +120,7 @@ void main() {
           a += boundaryTerms(xi, vi, dpi.x, dpi.y, bStart[first], bStart[last]);
         }
 #endif
-        if (!sphRow(cell, dy, dz, first, last)) {
+        if (!sphRow(xi, cell, dy, dz, first, last)) {
 #if defined(SIM_NEIGHBOR_MASKS)
           ++row;
 #endif

@@ -34,7 +34,7 @@ void main() {
 #if defined(SIM_PERIODIC_X)
       if (sphRowWrap(cell, dy, dz, first, last)) n = collect(xi, first, last, base, n);
 #endif
-      if (sphRow(cell, dy, dz, first, last)) n = collect(xi, first, last, base, n);
+      if (sphRow(xi, cell, dy, dz, first, last)) n = collect(xi, first, last, base, n);
     }
   neighbors[base] = n;
 }

@@ -9,5 +9,6 @@ void main() {
   uint i = sphfxGlobalIndex();
   if (i >= uItemCount) return;
   uvec2 cr = cellRank[i];
-  sortedIndex[cellStart[cr.x] + cr.y] = i;
+  // The slab bits (sim_grid_cells.comp) travel with the index into the sort key.
+  sortedIndex[cellStart[cr.x] + (cr.y & 0x3FFFFFFFu)] = i | (cr.y & 0xC0000000u);
 }

@@ -192,10 +192,10 @@ void BoundaryAkinci2012::prepare() const {
 void BoundaryAkinci2012::bind() const {
   pos_.bindStorage(SPHFX_SSBO_SIM_BOUNDARY_POS);
   vel_.bindStorage(SPHFX_SSBO_SIM_BOUNDARY_VEL);
-  grid_->cellStart().bindStorage(SPHFX_SSBO_SIM_BOUNDARY_CELL_START);
+  grid_->rowStart().bindStorage(SPHFX_SSBO_SIM_BOUNDARY_CELL_START);
   pos_.bindTexture(SPHFX_TEX_SIM_BOUNDARY_POS, GL_RGBA32F);
   vel_.bindTexture(SPHFX_TEX_SIM_BOUNDARY_VEL, GL_RGBA32F);
-  grid_->cellStart().bindTexture(SPHFX_TEX_SIM_BOUNDARY_CELL_START, GL_R32UI);
+  grid_->rowStart().bindTexture(SPHFX_TEX_SIM_BOUNDARY_CELL_START, GL_R32UI);
   colliders_.bindStorage(SPHFX_SSBO_SIM_COLLIDERS);
   keys_.bindStorage(SPHFX_SSBO_SIM_COLLIDER_KEYS);
 }

@@ -36,6 +36,16 @@ std::array<int, 3> gridDims(const Scene& scene) {
   return dims;
 }
 
+int gridSplitX(const Scene& scene) {
+  if (scene.domain.isPeriodic(0)) return 1;  // sphRowWrap() walks whole cells of h across the seam
+  const auto d = gridDims(scene);
+  const double cells = double(d[0]) * d[1] * d[2];
+  const double budget = kGridRowStartsPerParticle * double(std::max<size_t>(countInitialParticles(scene), 1));
+  for (int split : {4, 2})
+    if (split * cells <= budget) return split;
+  return 1;
+}
+
 double clampMargin(const Scene& scene) {
   return 0.05 * scene.fluid.spacing;
 }
@@ -105,6 +115,7 @@ ShaderDefines simShaderDefines(const Scene& scene) {
   if (scene.solver.method == Solver::DFSPH) d.set("SOLVER_DFSPH");
   if (scene.domain.isPeriodic(0)) d.set("SIM_PERIODIC_X");
   if (scene.domain.isPeriodic(2)) d.set("SIM_PERIODIC_Z");
+  if (const int split = gridSplitX(scene); split > 1) d.set("SIM_GRID_SPLIT_X", split);  // sphRow()
   return d;
 }
 

@@ -8,11 +8,20 @@
 
 namespace sphfx::sim {
 
+namespace {
+ShaderDefines splitDefines(const GridSpec& spec) {
+  ShaderDefines d;
+  if (spec.splitX > 1) d.set("SIM_GRID_SPLIT_X", spec.splitX);
+  return d;
+}
+}  // namespace
+
 GridSpec GridSpec::forScene(const Scene& scene) {
   GridSpec g;
   for (int a = 0; a < 3; ++a) g.min[a] = float(scene.domain.min[a]);
   g.cellSize = float(scene.kernelRadius());
   g.dims = gridDims(scene);
+  g.splitX = gridSplitX(scene);
   return g;
 }
 
@@ -21,12 +30,13 @@ NeighborGrid::NeighborGrid(DispatchGate& gate, const GridSpec& spec, uint32_t it
       spec_(spec),
       items_(items),
       cellStart_((size_t(spec.cells()) + 2) * 4),
+      rowStart_(spec.splitX > 1 ? (size_t(spec.cells()) * spec.splitX + 2) * 4 : 4),
       cellRank_(std::max<size_t>(items, 1) * 8),
       sorted_(std::max<size_t>(items, 1) * 4),
       scan_(gate, spec.cells() + 2),
-      cells_(ShaderProgram::compute("sim_grid_cells.comp")),
+      cells_(ShaderProgram::compute("sim_grid_cells.comp", splitDefines(spec))),
       scatter_(ShaderProgram::compute("sim_grid_scatter.comp")),
-      sort_(ShaderProgram::compute("sim_grid_sort.comp")),
+      sort_(ShaderProgram::compute("sim_grid_sort.comp", splitDefines(spec))),
       itemEntry_(gate.add(items, 64)),
       cellEntry_(gate.add(spec.cells(), 64)) {
   // Constant per grid: set once (programs are owned by this grid).
@@ -49,6 +59,7 @@ void NeighborGrid::build(const GpuBuffer& srcPos, const GpuBuffer& srcVel, const
   cellStart_.bindStorage(SPHFX_SSBO_SIM_CELL_START);
   cellRank_.bindStorage(SPHFX_SSBO_SIM_GRID_CELL_RANK);
   sorted_.bindStorage(SPHFX_SSBO_SIM_GRID_SORTED);
+  rowStart_.bindStorage(SPHFX_SSBO_SIM_GRID_ROW_START);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
   cells_.use();
   gate_->dispatch(itemEntry_, "sim_grid_cells.comp");

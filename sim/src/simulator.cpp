@@ -108,11 +108,11 @@ void Simulator::bindSolverBuffers() const {
   vel_.bindStorage(SPHFX_SSBO_SIM_VEL);
   density_.bindStorage(SPHFX_SSBO_SIM_DENSITY);
   accel_.bindStorage(SPHFX_SSBO_SIM_ACCEL);
-  grid_->cellStart().bindStorage(SPHFX_SSBO_SIM_CELL_START);
+  grid_->rowStart().bindStorage(SPHFX_SSBO_SIM_CELL_START);
   pos_.bindTexture(SPHFX_TEX_SIM_POS, GL_RGBA32F);
   vel_.bindTexture(SPHFX_TEX_SIM_VEL, GL_RGBA32F);
   density_.bindTexture(SPHFX_TEX_SIM_DENSITY, GL_RG32F);
-  grid_->cellStart().bindTexture(SPHFX_TEX_SIM_CELL_START, GL_R32UI);
+  grid_->rowStart().bindTexture(SPHFX_TEX_SIM_CELL_START, GL_R32UI);
   boundary_->bind();
 }
 

@@ -78,7 +78,7 @@ FactorLists runFactorPass(const Scene& scene, const std::vector<std::array<float
   grid.build(pos, vel, sortedPos, sortedVel);
   const SimParams params = makeSimParams(scene, n, 0, gate.entries());
   GpuBuffer ubo(sizeof params), state(sizeof(SimState)), noSamples(16),
-      noSampleStarts((spec.cells() + 2) * 4);
+      noSampleStarts((size_t(spec.cells()) * spec.splitX + 2) * 4);
   ubo.upload(&params, sizeof params);
   state.fill(0);
   noSamples.fill(0);
@@ -91,7 +91,7 @@ FactorLists runFactorPass(const Scene& scene, const std::vector<std::array<float
   state.bindStorage(SPHFX_SSBO_SIM_STATE);
   sortedPos.bindTexture(SPHFX_TEX_SIM_POS, GL_RGBA32F);
   sortedVel.bindTexture(SPHFX_TEX_SIM_VEL, GL_RGBA32F);
-  grid.cellStart().bindTexture(SPHFX_TEX_SIM_CELL_START, GL_R32UI);
+  grid.rowStart().bindTexture(SPHFX_TEX_SIM_CELL_START, GL_R32UI);
   noSamples.bindTexture(SPHFX_TEX_SIM_BOUNDARY_POS, GL_RGBA32F);
   noSamples.bindTexture(SPHFX_TEX_SIM_BOUNDARY_VEL, GL_RGBA32F);
   noSampleStarts.bindTexture(SPHFX_TEX_SIM_BOUNDARY_CELL_START, GL_R32UI);
@@ -182,6 +182,9 @@ TEST_F(DFSPH, NeighbourListsMatchBruteForce) {
   const Scene dense = test::sceneFromJson("{" + domain + R"(, "solver": {"method": "dfsph"},
       "fluid": {"spacing": 0.02, "packing": 0.5, "blocks": [{"min": [0.1,0.1,0.1], "max": [0.3,0.3,0.3]}]}})");
   expectListsMatchBruteForce(dense, 8000, 2);
+  // Both walk fine cells in x (4 per h), whose rows sphRow() trims to the kernel sphere's reach.
+  EXPECT_EQ(gridSplitX(rest), 4);
+  EXPECT_EQ(gridSplitX(dense), 4);
 }
 
 // A tank at rest: the constant-density solve within the scene's tolerance at every step, interior

@@ -106,6 +106,14 @@ TEST(Periodic, NeighbourSetsAcrossTheSeamsMatchBruteForce) {
           "fluid": {"spacing": 0.02, "blocks": [{"min": [0,0,0], "max": [0.12,0.1,0.1]}]}})");
   ASSERT_EQ(sim::gridDims(xOnly)[0], 3);
   expectNeighboursMatchBruteForce(xOnly, seamItems(xOnly, 1500, 9));
+  // Periodic in z only: the walks cut their rows to slabs in x (sim::gridSplitX()), but not across
+  // the z seam, where the last cell is wider (0.14 / 0.04: 3 cells, the last 0.06 wide).
+  const Scene zOnly = test::sceneFromJson(
+      R"({"domain": {"min": [0,0,0], "max": [0.3,0.2,0.14], "periodic": ["z"]},
+          "fluid": {"spacing": 0.02, "blocks": [{"min": [0,0,0], "max": [0.1,0.1,0.14]}]}})");
+  ASSERT_EQ(sim::gridSplitX(zOnly), 4);
+  ASSERT_EQ(sim::gridSplitX(both), 1);
+  expectNeighboursMatchBruteForce(zOnly, seamItems(zOnly, 2000, 13));
 }
 
 TEST(Periodic, WallSamplesOnlyOnTheNonPeriodicFaces) {

@@ -61,7 +61,7 @@ inline std::vector<std::pair<uint32_t, std::set<uint32_t>>> gpuNeighbours(
   ubo.upload(&params, sizeof params);
   ubo.bindUniform(SPHFX_UBO_SIM_PARAMS);
   sorted.bindStorage(SPHFX_SSBO_SIM_POS);
-  grid.cellStart().bindStorage(SPHFX_SSBO_SIM_CELL_START);
+  grid.rowStart().bindStorage(SPHFX_SSBO_SIM_CELL_START);
   out.bindStorage(SPHFX_SSBO_SIM_GRID_NEIGHBORS);
   ShaderProgram program = ShaderProgram::compute("sim_grid_neighbors.comp", sim::simShaderDefines(scene));
   program.use();

@@ -79,6 +79,16 @@ double calibratedParticleMass(const Scene& scene);
 /// cells, the last one wider, see periodicCells()).
 std::array<int, 3> gridDims(const Scene& scene);
 
+/// Most row starts (cells x gridSplitX()) of the neighbour grid per initial particle: the per-cell
+/// sort writes them all every build, so a sparse domain keeps whole cells.
+constexpr double kGridRowStartsPerParticle = 16.0;
+
+/// Slabs per grid cell in x that the neighbour walks resolve: 4, 2 or 1, the largest with at most
+/// kGridRowStartsPerParticle row starts per initial particle; 1 along a periodic x axis. With slabs of
+/// h / 4 a walk visits only the x-interval that the kernel sphere reaches in each row of cells, about
+/// 15 h^3 of candidates instead of 27 h^3 (sph_kernels.glsl, sphRow(); NeighborGrid::rowStart()).
+int gridSplitX(const Scene& scene);
+
 /// Distance particles are kept inside the domain walls and outside colliders by the last-resort clamp.
 double clampMargin(const Scene& scene);
 
