@@ -95,6 +95,9 @@ vec3 sphDelta(vec3 xi, vec3 xj) {
 }
 
 #if defined(SIM_PERIODIC_X)
+#if defined(SIM_GRID_SPLIT_X)
+#error "a periodic x axis walks whole cells (sphfx::sim::gridSplitX() is 1 there)"
+#endif
 // The cell of row (dy, dz) of `cell` that lies across the x seam: cell nx-1 for a particle in column 0,
 // cell 0 for one in column nx-1 (one cell, i.e. the range starts[first] to starts[last]). False for
 // particles in the other columns and for rows outside the grid. sphRow() gives the rest of the row.

@@ -1,14 +1,24 @@
 #include "sphfx/sim/neighbor_grid.h"
 
 #include <algorithm>
+#include <string>
 
 #include "bindings.h"
+#include "sphfx/core/error.h"
 #include "sphfx/core/gl.h"
 #include "sphfx/sim/gpu_types.h"
 
 namespace sphfx::sim {
 
 namespace {
+// The sort keys carry the slab in their top two bits (sim_grid_scatter.comp).
+uint32_t checkedItems(uint32_t items) {
+  if (items >= (1u << 30))
+    throw InputError("neighbour grid: " + std::to_string(items) +
+                     " items, more than the 2^30 the sort keys hold");
+  return items;
+}
+
 ShaderDefines splitDefines(const GridSpec& spec) {
   ShaderDefines d;
   if (spec.splitX > 1) d.set("SIM_GRID_SPLIT_X", spec.splitX);
@@ -28,7 +38,7 @@ GridSpec GridSpec::forScene(const Scene& scene) {
 NeighborGrid::NeighborGrid(DispatchGate& gate, const GridSpec& spec, uint32_t items)
     : gate_(&gate),
       spec_(spec),
-      items_(items),
+      items_(checkedItems(items)),
       cellStart_((size_t(spec.cells()) + 2) * 4),
       rowStart_(spec.splitX > 1 ? (size_t(spec.cells()) * spec.splitX + 2) * 4 : 4),
       cellRank_(std::max<size_t>(items, 1) * 8),

@@ -12,6 +12,7 @@
 #include "../core/gpu_layout_check.h"
 #include "bindings.h"
 #include "sim_test_util.h"
+#include "sphfx/core/error.h"
 #include "sphfx/core/gl.h"
 #include "sphfx/sim/gpu_types.h"
 #include "sphfx/sim/neighbor_grid.h"
@@ -106,6 +107,15 @@ TEST(NeighborGrid, ReorderEdgeCases) {
   for (size_t i = 0; i < oneCell.size(); ++i) oneCell[i][3] = float(i);
   expectStableCellOrder(spec, oneCell);
   expectStableCellOrder(spec, {Vec4{0.49f, 0.49f, 0.49f, 1}});  // one item in the last cell
+}
+
+// The sort keys carry the slab in their top two bits: a grid for 2^30 items or more refuses with a clear
+// error before it allocates its 8 bytes per item.
+TEST(NeighborGrid, RefusesMoreItemsThanTheSortKeysHold) {
+  auto ctx = test::makeContext();
+  sim::DispatchGate gate(1);
+  EXPECT_THROW(sim::NeighborGrid(gate, cubeGrid(5, 0.1f), 1u << 30), InputError);
+  EXPECT_THROW(sim::NeighborGrid(gate, cubeGrid(5, 0.1f), 0xffffffffu), InputError);
 }
 
 // With 4 slabs per cell in x: each cell ordered by slab, then by source index, and the row starts at

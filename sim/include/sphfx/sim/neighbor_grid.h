@@ -33,6 +33,7 @@ struct GridSpec {
 class NeighborGrid {
  public:
   /// Buffers and programs for `items` items. Registers its dispatches with `gate`.
+  /// @throws InputError for 2^30 items or more (the sort keys' limit).
   /// @throws GLError if a program does not build.
   NeighborGrid(DispatchGate& gate, const GridSpec& spec, uint32_t items);
 
