@@ -182,7 +182,7 @@ TEST_F(DFSPH, NeighbourListsMatchBruteForce) {
   const Scene dense = test::sceneFromJson("{" + domain + R"(, "solver": {"method": "dfsph"},
       "fluid": {"spacing": 0.02, "packing": 0.5, "blocks": [{"min": [0.1,0.1,0.1], "max": [0.3,0.3,0.3]}]}})");
   expectListsMatchBruteForce(dense, 8000, 2);
-  // Both walk fine cells in x (4 per h), whose rows sphRow() trims to the kernel sphere's reach.
+  // Both order their cells in 4 slabs of h / 4 in x, and sphRow() trims the rows to the sphere's reach.
   EXPECT_EQ(gridSplitX(rest), 4);
   EXPECT_EQ(gridSplitX(dense), 4);
 }
