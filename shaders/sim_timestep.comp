@@ -28,7 +28,9 @@ float chooseDt(float speed2, float accel2) {
   float dt = a > 0.0 ? 2.0 * reach / (v + sqrt(v * v + 4.0 * a * reach))
                      : (v > 0.0 ? reach / v : simLimits.y);
   // The fall alone, |a| dt^2 <= fall_factor d: at the default spacing a first step of 16.7 ms from rest
-  // (0.27 d onto the floor, within the displacement bound) blew up the tank corner; 0.15 d is safe.
+  // (0.27 d onto the floor, within the displacement bound) blew up the tank corner before the mended
+  // walls. Since then it holds, but costs front accuracy at fine spacings: 0.15 d stays the default
+  // (docs/dfsph.md, "Tenth session").
   if (a > 0.0) dt = min(dt, sqrt(simStep.z * simDomainMax.w / a));
 #else
   float dt = simStep.x * h / (simFluid.w + sqrt(speed2));

@@ -312,6 +312,35 @@ TEST_F(DFSPH, FirstStepsFromRestMeetTheDensityTolerance) {
   }
 }
 
+// The displacement bound alone (time.fall_factor 0.4 = cfl, SPlisHSPlasH's rule) lets the default dam
+// break's first step from rest be half a 30 fps frame, 16.7 ms: more than 20x the seed's 0.7 ms. Before the
+// mirrored walls this step blew up the floor-wall corner (862 particles above 3 m/s in frame 2, docs/dfsph.md
+// "Time step from rest"). Now every solve of the first 0.1 s ends within its tolerance, and no particle is
+// faster than a fall through the column's whole height, sqrt(2 g H) (measured: 1.3 m/s at 0.067 s).
+TEST_F(DFSPH, FrameSizedFirstStepAtTheDefaultSpacingStaysBounded) {
+  const Scene s = scene("dam_break.json", {"time.end_frame=4", "time.dt_max=0.02", "time.fall_factor=0.4"});
+  ASSERT_DOUBLE_EQ(s.fluid.spacing, 0.01);
+  Simulator sim(s);
+  double largest = 0;
+  while (sim.frame() < s.time.endFrame) {
+    const FrameStats f = sim.advance();
+    largest = std::max(largest, double(f.dtMax));
+    EXPECT_LE(stat(f, "density_error_max"), s.solver.maxDensityError) << "frame " << f.frame;
+    EXPECT_LE(stat(f, "divergence_error_max"), s.solver.maxDivergenceError) << "frame " << f.frame;
+    EXPECT_LT(stat(f, "pressure_iterations_max"), s.solver.maxIterations) << "frame " << f.frame;
+  }
+  EXPECT_GE(largest, 20 * 0.0007) << "the first step from rest is limited by the frame, not the fall";
+  const double height = s.fluid.blocks[0].max[1] - s.fluid.blocks[0].min[1];
+  const double fall = std::sqrt(2 * -s.gravity[1] * height);  // 2.8 m/s
+  const ParticleFrame frame = sim.cacheFrame();
+  double fastest = 0;
+  for (const auto& v : frame.velocity)
+    fastest = std::max(fastest, std::hypot(double(v[0]), double(v[1]), double(v[2])));
+  std::printf("largest step %.4f s, fastest particle at %.3f s: %.2f m/s (bound %.2f)\n", largest,
+              s.frameTime(sim.frame()), fastest, fall);
+  EXPECT_LT(fastest, fall) << "a particle faster than a fall through the whole column";
+}
+
 // Heavy-ball momentum (solver.jacobi_momentum, docs/dfsph.md "Momentum") accelerates the iterations but
 // solves the same system: on the first frame of the default dam break from rest (four steps that build
 // the column's pressure from zero) it needs at most 70 % of plain Jacobi's iterations (measured: 51 %),
