@@ -316,7 +316,7 @@ TEST_F(DFSPH, FirstStepsFromRestMeetTheDensityTolerance) {
 // break's first step from rest be half a 30 fps frame, 16.7 ms: more than 20x the seed's 0.7 ms. Before the
 // mirrored walls this step blew up the floor-wall corner (862 particles above 3 m/s in frame 2, docs/dfsph.md
 // "Time step from rest"). Now every solve of the first 0.1 s ends within its tolerance, and no particle is
-// faster than a fall through the column's whole height, sqrt(2 g H) (measured: 1.3 m/s at 0.067 s).
+// faster than a fall through the column's whole height, sqrt(2 g H) (measured: 1.60 m/s at 0.1 s).
 TEST_F(DFSPH, FrameSizedFirstStepAtTheDefaultSpacingStaysBounded) {
   const Scene s = scene("dam_break.json", {"time.end_frame=4", "time.dt_max=0.02", "time.fall_factor=0.4"});
   ASSERT_DOUBLE_EQ(s.fluid.spacing, 0.01);
