@@ -14,7 +14,8 @@ void addSceneCommand(CLI::App& app) {
       app.add_subcommand("scene", "Validate a scene and print it resolved (every default filled in)");
   auto file = std::make_shared<std::string>();
   auto schemaFlag = std::make_shared<bool>(false);
-  cmd->add_option("SCENE", *file, "Scene JSON file");
+  cmd->add_option("SCENE", *file, "Scene JSON file")
+      ->transform(resolveShippedFile, "", "");
   cmd->add_flag("--schema", *schemaFlag, "Print the parameter reference (Markdown) instead");
   auto sets = addSetOption(cmd);
   cmd->callback([file, schemaFlag, sets] {

@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include "commands.h"
+#include "sphfx/core/data_files.h"
 #include "sphfx/core/error.h"
 #include "sphfx/study/stability.h"
 #include "sphfx/study/study.h"
@@ -12,14 +13,6 @@ namespace fs = std::filesystem;
 
 namespace sphfx::cli {
 namespace {
-
-/// Runs are subprocesses of this very executable, so a study measures the build it is part of.
-std::string selfExecutable() {
-  std::error_code ec;
-  const fs::path self = fs::read_symlink("/proc/self/exe", ec);
-  if (ec) throw IoError("cannot locate the sphfx executable (/proc/self/exe): " + ec.message());
-  return self.string();
-}
 
 std::vector<std::string> glArgs(const GLContextOptions& gl) {
   std::vector<std::string> args{"--gl", toString(gl.backend)};
@@ -35,13 +28,14 @@ void addStudyCommand(CLI::App& app) {
   auto file = std::make_shared<std::string>();
   auto out = std::make_shared<std::string>();
   auto keep = std::make_shared<bool>(false);
-  cmd->add_option("STUDY", *file, "Study JSON file (e.g. studies/quick.json)")->required();
+  cmd->add_option("STUDY", *file, "Study JSON file (e.g. studies/quick.json)")->required()
+      ->transform(resolveShippedFile, "", "");
   cmd->add_option("-o,--output", *out, "Output folder (results.csv, error_vs_time.png, report.md)")->required();
   cmd->add_flag("--keep-shots", *keep, "Keep every run's particle caches");
   auto gl = addGLOptions(cmd);
   cmd->callback([=] {
     const study::StudySpec spec = study::loadStudy(*file);
-    const auto results = study::runStudy(spec, *out, {selfExecutable(), glArgs(*gl), *keep});
+    const auto results = study::runStudy(spec, *out, {executablePath(), glArgs(*gl), *keep});
     size_t failed = 0;
     for (const auto& r : results) failed += r.outcome.status == study::RunStatus::Failed ? 1 : 0;
     std::printf("%zu runs, %zu failed; report: %s\n", results.size(), failed,
@@ -53,21 +47,23 @@ void addStudyCommand(CLI::App& app) {
 void addStabilityCommand(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("stability", "Run the stability suite on stiff and extreme cases; exits "
                                                   "non-zero if any run fails (crash, hang, garbage)");
-  auto file = std::make_shared<std::string>(std::string(SPHFX_SOURCE_DIR) + "/studies/stability.json");
+  auto file = std::make_shared<std::string>();
   auto out = std::make_shared<std::string>("stability");
   auto quick = std::make_shared<bool>(false);
   auto keep = std::make_shared<bool>(false);
   auto solvers = std::make_shared<std::vector<std::string>>();
-  cmd->add_option("--suite", *file, "Suite file")->capture_default_str();
+  cmd->add_option("--suite", *file, "Suite file (default: the shipped studies/stability.json)");
   cmd->add_option("-o,--output", *out, "Output folder (stability.csv, stability.md)")->capture_default_str();
   cmd->add_flag("--quick", *quick, "Only the quick set (what CI runs)");
   cmd->add_option("--solvers", *solvers, "Override the suite's solvers (e.g. --solvers wcsph)")->delimiter(',');
   cmd->add_flag("--keep-shots", *keep, "Keep every run's particle caches");
   auto gl = addGLOptions(cmd);
   cmd->callback([=] {
-    study::StabilitySuite suite = study::loadStabilitySuite(*file);
+    // Runs are subprocesses of this very executable, so the suite measures the build it is part of.
+    const std::string suiteFile = file->empty() ? dataDirectory() + "/studies/stability.json" : resolveShippedFile(*file);
+    study::StabilitySuite suite = study::loadStabilitySuite(suiteFile);
     if (!solvers->empty()) suite.solvers = *solvers;
-    const auto report = study::runStabilitySuite(suite, *quick, *out, {selfExecutable(), glArgs(*gl), *keep});
+    const auto report = study::runStabilitySuite(suite, *quick, *out, {executablePath(), glArgs(*gl), *keep});
     std::printf("%zu runs: %zu failed, %zu stopped although they must stay stable; report: %s\n",
                 report.runs.size(), report.failed, report.unexpected, (fs::path(*out) / "stability.md").c_str());
     if (report.failed || report.unexpected)

@@ -11,6 +11,9 @@ namespace sphfx::cli {
 
 /// Adds --gl and --gl-debug to `cmd`; the returned options are filled when the command line is parsed.
 std::shared_ptr<GLContextOptions> addGLOptions(CLI::App* cmd);
+/// Option transform for input files (scenes, studies, suites): a relative path that does not exist here
+/// is looked up in the shipped data folder (sphfx::resolveInputFile).
+std::string resolveShippedFile(std::string path);
 /// Adds repeatable --set path=value to `cmd`.
 std::shared_ptr<std::vector<std::string>> addSetOption(CLI::App* cmd);
 

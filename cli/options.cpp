@@ -1,5 +1,7 @@
 #include "commands.h"
 
+#include "sphfx/core/data_files.h"
+
 namespace sphfx::cli {
 
 std::shared_ptr<GLContextOptions> addGLOptions(CLI::App* cmd) {
@@ -15,6 +17,8 @@ std::shared_ptr<GLContextOptions> addGLOptions(CLI::App* cmd) {
                 "Check GL errors after every dispatch and draw, and print KHR_debug messages (slow)");
   return options;
 }
+
+std::string resolveShippedFile(std::string path) { return resolveInputFile(path); }
 
 std::shared_ptr<std::vector<std::string>> addSetOption(CLI::App* cmd) {
   auto sets = std::make_shared<std::vector<std::string>>();

@@ -4,11 +4,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
 
+#include "sphfx/core/data_files.h"
 #include "sphfx/core/error.h"
 
 namespace sphfx::study {
@@ -62,8 +62,7 @@ MartinMoyce MartinMoyce::load(const std::string& directory) {
 }
 
 std::string referenceDirectory() {
-  if (const char* env = std::getenv("SPHFX_REFERENCE_DIR")) return env;
-  return std::string(SPHFX_SOURCE_DIR) + "/../shared/reference";
+  return dataDirectory() + "/studies/reference";
 }
 
 double hydrostaticPressure(double restDensity, double gravity, double surfaceHeight, double y) {

@@ -389,7 +389,7 @@ TEST_P(DFSPHAtCfl, DamBreakAtLargeTimeStepMatchesMartinMoyce) {
   const Scene s =
       scene("dam_break.json", {"fluid.spacing=0.02", "time.fps=60", "time.end_frame=22", "time.dt_max=0.02",
                                fmt::format("time.cfl_factor={}", GetParam())});
-  const study::Table ref = study::MartinMoyce::load(study::referenceDirectory()).front;
+  const study::Table ref = study::MartinMoyce::load(std::string(SPHFX_SOURCE_DIR) + "/studies/reference").front;
   Simulator sim(s);
   const double a = 0.2, g = 9.81;
   std::vector<double> T, Z;

@@ -111,7 +111,7 @@ TEST(Physics, HydrostaticTankSettlesToRestDensityAndPressureProfile) {
 }
 
 std::vector<std::pair<double, double>> readMartinMoyce() {
-  std::ifstream in(std::string(SPHFX_SHARED_DIR) + "/reference/dam_break_martin_moyce_n2.csv");
+  std::ifstream in(std::string(SPHFX_SOURCE_DIR) + "/studies/reference/dam_break_martin_moyce_n2.csv");
   std::vector<std::pair<double, double>> rows;
   std::string line;
   while (std::getline(in, line)) {

@@ -10,7 +10,7 @@
 using namespace sphfx::study;
 
 TEST(References, MartinMoyceTablesLoad) {
-  const MartinMoyce mm = MartinMoyce::load(referenceDirectory());
+  const MartinMoyce mm = MartinMoyce::load(std::string(SPHFX_SOURCE_DIR) + "/studies/reference");
   EXPECT_EQ(mm.front.x().size(), 15u);
   EXPECT_DOUBLE_EQ(mm.front.at(0.41), 1.11);
   EXPECT_DOUBLE_EQ(mm.front.at(3.33), 4.11);

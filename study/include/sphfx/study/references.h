@@ -36,12 +36,13 @@ class Table {
 struct MartinMoyce {
   Table front;
   Table height;
-  /// Reads both tables from `directory` (the shared reference folder).
+  /// Reads both tables from `directory` (normally referenceDirectory()).
   /// @throws IoError, InputError as Table::readCsv.
   static MartinMoyce load(const std::string& directory);
 };
 
-/// The shared reference folder: $SPHFX_REFERENCE_DIR if set, else `<source>/../shared/reference`.
+/// The shipped reference tables: `studies/reference` under dataDirectory() (sphfx/core/data_files.h).
+/// @throws IoError when the data folder cannot be found.
 std::string referenceDirectory();
 
 /// Hydrostatic pressure rho0 g (H - y) at height y below a free surface at height H (0 above it).
