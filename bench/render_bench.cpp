@@ -15,10 +15,10 @@
 #include <string>
 
 #include "sphfx/core/error.h"
-#include "sphfx/core/gl.h"
-#include "sphfx/core/gl_context.h"
+#include "sphfx/gpu/gl.h"
+#include "sphfx/gpu/gl_context.h"
 #include "sphfx/render/render_shot.h"
-#include "sphfx/render/renderer.h"
+#include "renderer.h"
 
 using namespace sphfx;
 using namespace sphfx::render;

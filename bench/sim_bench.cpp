@@ -23,10 +23,10 @@
 #include <string>
 #include <vector>
 
-#include "sphfx/core/gl.h"
-#include "sphfx/core/gl_context.h"
+#include "sphfx/gpu/gl.h"
+#include "sphfx/gpu/gl_context.h"
 #include "sphfx/core/scene.h"
-#include "sphfx/sim/simulator.h"
+#include "simulator.h"
 
 namespace {
 

@@ -15,12 +15,12 @@
 #include <string>
 #include <vector>
 
-#include "sphfx/core/gl.h"
-#include "sphfx/core/gl_context.h"
+#include "sphfx/gpu/gl.h"
+#include "sphfx/gpu/gl_context.h"
 #include "sphfx/core/scene.h"
-#include "sphfx/sim/simulator.h"
-#include "sphfx/study/metrics.h"
-#include "sphfx/study/references.h"
+#include "simulator.h"
+#include "metrics.h"
+#include "references.h"
 
 namespace {
 

@@ -4,7 +4,7 @@
 
 #include "commands.h"
 #include "sphfx/core/error.h"
-#include "sphfx/core/selftest.h"
+#include "sphfx/gpu/selftest.h"
 
 namespace sphfx::cli {
 

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "sphfx/core/gl_context.h"
+#include "sphfx/gpu/gl_context.h"
 
 namespace sphfx::cli {
 

@@ -1,6 +1,6 @@
 /* Binding points shared by C++ and GLSL: the one declaration of every buffer binding.
- * C++ includes this file (sphfx/core/gpu_layout.h); every GLSL program gets it prepended
- * (sphfx/core/shader_program.h). Keep it preprocessor-only so that both languages accept it.
+ * C++ includes this file (sphfx/gpu/gpu_layout.h); every GLSL program gets it prepended
+ * (sphfx/gpu/shader_program.h). Keep it preprocessor-only so that both languages accept it.
  * tests/core/gpu_layout_test.cpp checks these numbers against the linked programs. */
 #ifndef SPHFX_BINDINGS_H
 #define SPHFX_BINDINGS_H

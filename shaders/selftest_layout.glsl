@@ -1,4 +1,4 @@
-// GLSL side of sphfx::SelfTestParams (core/include/sphfx/core/gpu_layout.h).
+// GLSL side of sphfx::SelfTestParams (core/include/sphfx/gpu/gpu_layout.h).
 layout(std140, binding = SPHFX_UBO_SELFTEST) uniform SelfTestParams {
   float selftestScale;
   uint selftestCount;

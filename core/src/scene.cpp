@@ -1,6 +1,7 @@
 #include "sphfx/core/scene.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <cmath>
@@ -8,6 +9,7 @@
 #include <sstream>
 
 #include "sphfx/core/error.h"
+#include "sphfx/core/log.h"
 
 namespace sphfx {
 
@@ -118,58 +120,119 @@ std::shared_ptr<const Object<Fluid>> fluidSchema() {
                 "viscosity (uses artificial_viscosity).")
         .number("viscosity", &Fluid::viscosity, 1e-6, "m^2/s", Range::closed(0, 100),
                 "Kinematic viscosity for the laplacian model (water: 1e-6).")
+        .onlyWhen([](const Fluid& f) { return f.viscosityModel == ViscosityModel::Laplacian; },
+                  "laplacian model")
         .number("artificial_viscosity", &Fluid::artificialViscosity, 0.02, "", Range::closed(0, 10),
-                "Monaghan alpha for the artificial model.")
+                "Monaghan alpha for the artificial model: nu = 2 alpha h c / (rho_i + rho_j).")
+        .onlyWhen([](const Fluid& f) { return f.viscosityModel == ViscosityModel::Artificial; },
+                  "artificial model")
         .list("blocks", &Fluid::blocks, fluidBlockSchema(), 1, kUnbounded,
               "Blocks of fluid at the first frame (boxes or spheres, must not overlap).");
   });
 }
 
-std::shared_ptr<const Object<SolverSettings>> solverSchema() {
-  return makeSchema<SolverSettings>([](Object<SolverSettings>& o) {
-    o.choice("method", &SolverSettings::method, Solver::WCSPH,
-             {{"wcsph", Solver::WCSPH}, {"dfsph", Solver::DFSPH}},
-             "Pressure solver: weakly compressible SPH or divergence-free SPH (Bender & Koschier).")
-        .choice(
-            "eos", &SolverSettings::eos, EquationOfState::Tait,
-            {{"linear", EquationOfState::Linear}, {"tait", EquationOfState::Tait}},
-            "WCSPH equation of state: the seed's p = k (rho - rho0), or Tait with speed_of_sound and gamma.")
-        .number("stiffness", &SolverSettings::stiffness, 1000, "m^2/s^2", Range{0, 1e9, true, false},
-                "Linear EOS stiffness k.")
-        .number("speed_of_sound", &SolverSettings::speedOfSound, 30, "m/s", Range{0, 1e5, true, false},
-                "Tait EOS numerical speed of sound (about 10x the fastest flow keeps density error near 1%).")
-        .number("gamma", &SolverSettings::gamma, 7, "", Range::closed(1, 10), "Tait EOS exponent.")
-        .number("kernel_support", &SolverSettings::kernelSupport, 2.0, "spacings", Range::closed(1.2, 4),
-                "Kernel support radius h as a multiple of the particle spacing.")
-        .number("max_density_error", &SolverSettings::maxDensityError, 0.001, "", Range{0, 0.1, true, false},
-                "DFSPH: average density error tolerance, as a fraction of rest density.")
-        .number("max_divergence_error", &SolverSettings::maxDivergenceError, 0.001, "",
+bool isTait(const WcsphSettings& w) {
+  return w.eos == EquationOfState::Tait;
+}
+
+std::shared_ptr<const Object<WcsphSettings>> wcsphSchema() {
+  return makeSchema<WcsphSettings>([](Object<WcsphSettings>& o) {
+    o.choice("eos", &WcsphSettings::eos, EquationOfState::Tait,
+             {{"linear", EquationOfState::Linear}, {"tait", EquationOfState::Tait}},
+             "Equation of state: the seed's p = k (rho - rho0) (uses stiffness), or Tait, p = B ((rho / "
+             "rho0)^gamma - 1) with B = rho0 c^2 / gamma (uses solver.speed_of_sound and gamma).")
+        .number("stiffness", &WcsphSettings::stiffness, 1000, "m^2/s^2", Range{0, 1e9, true, false},
+                "Linear EOS stiffness k; the speed of sound is then sqrt(k).")
+        .onlyWhen([](const WcsphSettings& w) { return !isTait(w); }, "linear eos")
+        .number("gamma", &WcsphSettings::gamma, 7, "", Range::closed(1, 10),
+                "Tait exponent (7 for water).")
+        .onlyWhen(isTait, "tait eos")
+        .number("force_factor", &WcsphSettings::forceFactor, 0.25, "", Range{0, 10, true, false},
+                "CFL mode: factor on Monaghan's force limit sqrt(h / |a|max); lower it if strong body "
+                "forces or collisions blow a run up.");
+  });
+}
+
+std::shared_ptr<const Object<DfsphSettings>> dfsphSchema() {
+  return makeSchema<DfsphSettings>([](Object<DfsphSettings>& o) {
+    o.number("max_density_error", &DfsphSettings::maxDensityError, 0.001, "", Range{0, 0.1, true, false},
+             "Average density error tolerance of the constant-density solve, as a fraction of rest "
+             "density; lower it for less compression at the cost of iterations.")
+        .number("max_divergence_error", &DfsphSettings::maxDivergenceError, 0.001, "",
                 Range{0, 0.1, true, false},
-                "DFSPH: average divergence error tolerance: mean |D rho/Dt| / rest density times dt, the "
-                "relative density change per time step (SPlisHSPlasH's default 0.1 %).")
-        .integer("min_iterations", &SolverSettings::minIterations, 2, "", Range::closed(1, 1000),
-                 "DFSPH: minimum pressure iterations per step.")
-        .integer("max_iterations", &SolverSettings::maxIterations, 200, "", Range::closed(1, 100000),
-                 "DFSPH: maximum pressure iterations per step (each solve). The first step of a dam "
-                 "break from rest needs 72 at the default spacing (144 without jacobi_momentum, which "
-                 "SPlisHSPlasH's 100 left at 0.14 %).")
-        .integer("min_divergence_iterations", &SolverSettings::minDivergenceIterations, 1, "",
+                "Average divergence error tolerance: mean |D rho/Dt| / rest density times dt, the relative "
+                "density change per step (SPlisHSPlasH's default 0.1 %).")
+        .integer("min_iterations", &DfsphSettings::minIterations, 2, "", Range::closed(1, 1000),
+                 "Minimum iterations of the constant-density solve per step.")
+        .integer("max_iterations", &DfsphSettings::maxIterations, 200, "", Range::closed(1, 100000),
+                 "Maximum iterations of each solve per step; a solve that reaches it ends with its error "
+                 "above the tolerance (the frame statistics show it). Raise it when they do.")
+        .integer("min_divergence_iterations", &DfsphSettings::minDivergenceIterations, 1, "",
                  Range::closed(1, 1000),
-                 "DFSPH: minimum divergence iterations per step (SPlisHSPlasH's 1; the warm start comes "
-                 "first).")
-        .number("jacobi_momentum", &SolverSettings::jacobiMomentum, 0.5, "", Range{0, 1, false, true},
-                "DFSPH: share of a particle's previous stiffness increment added to the next (heavy-ball "
-                "Jacobi, Polyak 1964); 0 is plain relaxed Jacobi. 0.5 takes a quarter fewer iterations on "
-                "the dam breaks and half on the first step from rest.")
-        .check([](const SolverSettings& s, const Json&, const std::string& path) {
-          const int least = std::max(s.minIterations, s.minDivergenceIterations);
-          if (least > s.maxIterations)
+                 "Minimum iterations of the divergence solve per step (after its warm start).")
+        .number("jacobi_omega", &DfsphSettings::jacobiOmega, 0.5, "", Range{0, 1, true, false},
+                "Relaxation of the projected Jacobi updates (IISPH's 0.5). Larger values converge faster "
+                "where they converge at all; the dam break from rest diverges at 0.65.")
+        .number("jacobi_momentum", &DfsphSettings::jacobiMomentum, 0.5, "", Range{0, 1, false, true},
+                "Share of a particle's previous stiffness increment added to the next (heavy-ball Jacobi, "
+                "Polyak 1964); 0 is plain relaxed Jacobi, which needs about twice the iterations.")
+        .number("density_warm_share", &DfsphSettings::densityWarmShare, 0.8, "", Range::closed(0, 1),
+                "Share of the last step's stiffness the constant-density solve starts from (warm start); "
+                "lower is steadier at rest, higher needs fewer iterations in fast flow.")
+        .number("divergence_warm_share", &DfsphSettings::divergenceWarmShare, 0.5, "", Range::closed(0, 1),
+                "The same for the divergence solve (SPlisHSPlasH's 0.5); the full share keeps re-applying a "
+                "stale impulse and a resting tank does not settle.")
+        .number("density_wall_push", &DfsphSettings::densityWallPush, 1.5, "", Range::closed(1, 4),
+                "Weight of the wall samples in the constant-density solve: above 1 walls push back harder "
+                "than fluid, which keeps particles out of them; 2 diverges on the dam break.")
+        .number("free_surface_fraction", &DfsphSettings::freeSurfaceFraction, 0.6, "", Range::closed(0, 1),
+                "A particle with fewer neighbours than this share of a full lattice neighbourhood is at "
+                "the free surface and gets no divergence correction (SPlisHSPlasH: 20 of 32).")
+        .number("fall_factor", &DfsphSettings::fallFactor, 0.15, "", Range{0, 10, true, false},
+                "CFL mode: the non-pressure acceleration's displacement per step, |a|max dt^2 <= factor * "
+                "spacing. It bounds the first steps from rest; 0.4 allows 16.7 ms at spacing 0.01.")
+        .check([](const DfsphSettings& d, const Json&, const std::string& path) {
+          const int least = std::max(d.minIterations, d.minDivergenceIterations);
+          if (least > d.maxIterations)
             throw SchemaError(schema::childPath(path, "max_iterations"),
                               fmt::format("expected max_iterations >= min_iterations and "
                                           "min_divergence_iterations ({}), got {}",
-                                          least, s.maxIterations));
+                                          least, d.maxIterations));
         });
   });
+}
+
+std::string onlyWithMethod(const std::string& name) {
+  return "only when the method is \"" + name + "\"";
+}
+
+std::shared_ptr<const Object<SolverSettings>> solverSchema() {
+  return makeSchema<SolverSettings>([](Object<SolverSettings>& o) {
+    const auto& solvers = pressureSolverRegistry();
+    o.choice("method", &SolverSettings::method, Solver::WCSPH, methodChoices(solvers),
+             "Pressure solver. " + methodDescriptions(solvers) + ".")
+        .number("kernel_support", &SolverSettings::kernelSupport, 2.0, "spacings", Range::closed(1.2, 4),
+                "Kernel support radius h as a multiple of the particle spacing.")
+        .number("speed_of_sound", &SolverSettings::speedOfSound, 30, "m/s", Range{0, 1e5, true, false},
+                "Numerical speed of sound c: WCSPH's Tait EOS and acoustic time-step limit (about 10x the "
+                "fastest flow keeps the density error near 1 %), and the c of Monaghan's artificial "
+                "viscosity under either solver.")
+        .onlyWhen([](const SolverSettings& s) { return s.method == Solver::DFSPH || isTait(s.wcsph); },
+                  "not with the linear eos, whose speed of sound is sqrt(stiffness)")
+        .child("wcsph", &SolverSettings::wcsph, wcsphSchema(), "WCSPH's parameters.")
+        .onlyWhen([](const SolverSettings& s) { return s.method == Solver::WCSPH; },
+                  onlyWithMethod(methodEntry(solvers, Solver::WCSPH).name))
+        .child("dfsph", &SolverSettings::dfsph, dfsphSchema(), "DFSPH's parameters.")
+        .onlyWhen([](const SolverSettings& s) { return s.method == Solver::DFSPH; },
+                  onlyWithMethod(methodEntry(solvers, Solver::DFSPH).name));
+  });
+}
+
+bool isFixed(const TimeSettings& t) {
+  return t.mode == TimeStepMode::Fixed;
+}
+bool isCfl(const TimeSettings& t) {
+  return t.mode == TimeStepMode::Cfl;
 }
 
 std::shared_ptr<const Object<TimeSettings>> timeSchema() {
@@ -184,22 +247,21 @@ std::shared_ptr<const Object<TimeSettings>> timeSchema() {
                 {{"fixed", TimeStepMode::Fixed}, {"cfl", TimeStepMode::Cfl}},
                 "Time step control: fixed dt, or CFL-adaptive between dt_min and dt_max.")
         .number("dt", &TimeSettings::dt, 0.0007, "s", Range{0, 1, true, false}, "Fixed mode: the time step.")
+        .onlyWhen(isFixed, "fixed mode")
         .number("cfl_factor", &TimeSettings::cflFactor, 0.4, "", Range{0, 10, true, false},
                 "CFL mode: factor on the acoustic limit h / (c + |v|max) (WCSPH), or on the displacement per "
                 "step, |v|max dt + |a|max dt^2 <= factor * spacing with a the non-pressure acceleration "
                 "(DFSPH, Bender & Koschier 2015).")
+        .onlyWhen(isCfl, "cfl mode")
         .number("viscous_factor", &TimeSettings::viscousFactor, 0.125, "", Range{0, 10, true, false},
                 "CFL mode: factor on the viscous limit h^2 / nu.")
-        .number("force_factor", &TimeSettings::forceFactor, 0.25, "", Range{0, 10, true, false},
-                "CFL mode: factor on the force limit sqrt(h / |a|max) (WCSPH).")
-        .number("fall_factor", &TimeSettings::fallFactor, 0.15, "", Range{0, 10, true, false},
-                "CFL mode, DFSPH: the non-pressure acceleration's displacement per step, |a|max dt^2 <= "
-                "factor * spacing. 0.4 (the displacement bound alone) allows a first step of 16.7 ms at "
-                "the default spacing, at some cost in front accuracy at fine spacings.")
+        .onlyWhen(isCfl, "cfl mode")
         .number("dt_min", &TimeSettings::dtMin, 1e-6, "s", Range{0, 1, true, false},
                 "CFL mode: smallest step; needing less stops the run with an error.")
+        .onlyWhen(isCfl, "cfl mode")
         .number("dt_max", &TimeSettings::dtMax, 0.005, "s", Range{0, 1, true, false},
                 "CFL mode: largest step.")
+        .onlyWhen(isCfl, "cfl mode")
         .check([](const TimeSettings& t, const Json&, const std::string& path) {
           if (t.endFrame < t.startFrame)
             throw SchemaError(
@@ -207,7 +269,7 @@ std::shared_ptr<const Object<TimeSettings>> timeSchema() {
                 fmt::format("expected end_frame >= start_frame ({}), got {}", t.startFrame, t.endFrame));
           if (t.endFrame - t.startFrame > 1'000'000)
             throw SchemaError(schema::childPath(path, "end_frame"), "expected at most 1000000 frames");
-          if (t.dtMin > t.dtMax)
+          if (isCfl(t) && t.dtMin > t.dtMax)
             throw SchemaError(schema::childPath(path, "dt_min"),
                               fmt::format("expected dt_min <= dt_max ({}), got {}", t.dtMax, t.dtMin));
         });
@@ -271,13 +333,26 @@ std::shared_ptr<const Object<CacheSettings>> cacheSchema() {
   });
 }
 
+std::shared_ptr<const Object<AnisotropicSurfaceSettings>> anisotropicSurfaceSchema() {
+  return makeSchema<AnisotropicSurfaceSettings>([](Object<AnisotropicSurfaceSettings>& o) {
+    o.number("lambda", &AnisotropicSurfaceSettings::lambda, 0.9, "", Range::closed(0, 1),
+             "Laplacian smoothing of the kernel centres towards their neighbours' mean (Yu & Turk: 0.9 to "
+             "1); lower keeps small features, higher gives a smoother surface.")
+        .number("max_stretch", &AnisotropicSurfaceSettings::maxStretch, 4, "", Range::closed(1, 100),
+                "k_r: largest ratio between a kernel's longest and shortest axes; higher makes thin sheets "
+                "thinner and flatter.")
+        .integer("isolated_below", &AnisotropicSurfaceSettings::isolatedBelow, 6, "", Range::closed(0, 1000),
+                 "N_eps: a particle with fewer neighbours gets a small isotropic kernel (spray).")
+        .number("isolated_scale", &AnisotropicSurfaceSettings::isolatedScale, 0.5, "",
+                Range{0, 1, true, false}, "k_n: the support of such a kernel, relative to the full one.");
+  });
+}
+
 std::shared_ptr<const Object<SurfaceSettings>> surfaceSchema() {
   return makeSchema<SurfaceSettings>([](Object<SurfaceSettings>& o) {
-    o.choice("method", &SurfaceSettings::method, SurfaceMethod::ZhuBridson,
-             {{"spheres", SurfaceMethod::Spheres},
-              {"zhu-bridson", SurfaceMethod::ZhuBridson},
-              {"anisotropic", SurfaceMethod::Anisotropic}},
-             "Particle-to-level-set method.")
+    const auto& methods = surfacingMethodRegistry();
+    o.choice("method", &SurfaceSettings::method, SurfaceMethod::ZhuBridson, methodChoices(methods),
+             "Particle-to-level-set method. " + methodDescriptions(methods) + ".")
         .number("voxel_factor", &SurfaceSettings::voxelFactor, 0.5, "spacings", Range::closed(0.05, 4),
                 "Voxel size as a multiple of the particle spacing.")
         .number("radius_factor", &SurfaceSettings::radiusFactor, 1.0, "spacings", Range::closed(0.1, 8),
@@ -285,7 +360,11 @@ std::shared_ptr<const Object<SurfaceSettings>> surfaceSchema() {
         .integer("smooth_iterations", &SurfaceSettings::smoothIterations, 2, "", Range::closed(0, 100),
                  "Level-set smoothing iterations after rasterizing.")
         .number("adaptivity", &SurfaceSettings::adaptivity, 0.0, "", Range::closed(0, 1),
-                "Mesh adaptivity (0: uniform triangles).");
+                "Mesh adaptivity (0: uniform triangles).")
+        .child("anisotropic", &SurfaceSettings::anisotropic, anisotropicSurfaceSchema(),
+               "The anisotropic method's parameters.")
+        .onlyWhen([](const SurfaceSettings& s) { return s.method == SurfaceMethod::Anisotropic; },
+                  onlyWithMethod(methodEntry(surfacingMethodRegistry(), SurfaceMethod::Anisotropic).name));
   });
 }
 
@@ -519,14 +598,124 @@ SeededParticles seedParticles(const Scene& scene) {
   return out;
 }
 
+namespace {
+
+/// Keys of older scene files and where they are declared now (JSON pointers).
+const std::vector<std::pair<std::string, std::string>>& movedKeys() {
+  static const std::vector<std::pair<std::string, std::string>> moved = {
+      {"/solver/eos", "/solver/wcsph/eos"},
+      {"/solver/stiffness", "/solver/wcsph/stiffness"},
+      {"/solver/gamma", "/solver/wcsph/gamma"},
+      {"/time/force_factor", "/solver/wcsph/force_factor"},
+      {"/solver/max_density_error", "/solver/dfsph/max_density_error"},
+      {"/solver/max_divergence_error", "/solver/dfsph/max_divergence_error"},
+      {"/solver/min_iterations", "/solver/dfsph/min_iterations"},
+      {"/solver/max_iterations", "/solver/dfsph/max_iterations"},
+      {"/solver/min_divergence_iterations", "/solver/dfsph/min_divergence_iterations"},
+      {"/solver/jacobi_momentum", "/solver/dfsph/jacobi_momentum"},
+      {"/time/fall_factor", "/solver/dfsph/fall_factor"},
+  };
+  return moved;
+}
+
+/// "/solver/eos" -> "solver.eos", for messages about --set paths.
+std::string dotted(const std::string& pointer) {
+  std::string out = pointer.substr(1);
+  std::replace(out.begin(), out.end(), '/', '.');
+  return out;
+}
+
+/// A choice that decides which other parameters are read: for each of its values, the keys (siblings
+/// of the selector in the same object) that only that value reads. Setting the selector by an override
+/// drops the keys only the other values read.
+struct Selector {
+  std::vector<std::string> path;  ///< object holding the selector and its keys
+  std::string key;
+  std::vector<std::pair<std::string, std::vector<std::string>>> keysOf;  ///< value -> keys only it reads
+};
+
+template <class Id>
+Selector methodSelector(std::vector<std::string> path, const std::vector<MethodEntry<Id>>& registry) {
+  Selector s{std::move(path), "method", {}};
+  for (const auto& e : registry)
+    s.keysOf.push_back({e.name, e.parameterGroup.empty() ? std::vector<std::string>{}
+                                                          : std::vector<std::string>{e.parameterGroup}});
+  return s;
+}
+
+const std::vector<Selector>& selectors() {
+  static const std::vector<Selector> all = {
+      methodSelector({"solver"}, pressureSolverRegistry()),
+      methodSelector({"surface"}, surfacingMethodRegistry()),
+      {{"time"}, "dt_mode", {{"fixed", {"dt"}}, {"cfl", {"cfl_factor", "viscous_factor", "dt_min", "dt_max"}}}},
+      {{"fluid"},
+       "viscosity_model",
+       {{"none", {}}, {"laplacian", {"viscosity"}}, {"artificial", {"artificial_viscosity"}}}},
+      {{"solver", "wcsph"}, "eos", {{"linear", {"stiffness"}}, {"tait", {"gamma"}}}},
+  };
+  return all;
+}
+
+/// After an override set `parts` to `value`: if that is a selector, remove the keys that only its other
+/// values read from the object holding it.
+void dropKeysOfOtherChoices(Json& raw, const std::vector<std::string>& parts, const Json& value) {
+  if (!value.is_string()) return;
+  for (const Selector& sel : selectors()) {
+    std::vector<std::string> full = sel.path;
+    full.push_back(sel.key);
+    if (full != parts) continue;
+    Json* object = &raw;
+    for (const auto& segment : sel.path) object = &(*object)[segment];
+    std::vector<std::string> kept;
+    for (const auto& [choice, keys] : sel.keysOf)
+      if (choice == value.get<std::string>()) kept = keys;
+    for (const auto& [choice, keys] : sel.keysOf)
+      for (const auto& key : keys)
+        if (std::find(kept.begin(), kept.end(), key) == kept.end() && object->is_object() &&
+            object->contains(key)) {
+          logInfo(fmt::format("--set {}={}: {}.{} is not read with it; dropped", fmt::join(full, "."),
+                              value.get<std::string>(), fmt::join(sel.path, "."), key));
+          object->erase(key);
+        }
+  }
+}
+
+}  // namespace
+
+void migrateSceneJson(Json& raw, const std::string& source) {
+  if (!raw.is_object()) return;
+  for (const auto& [from, to] : movedKeys()) {
+    const Json::json_pointer oldPtr(from), newPtr(to);
+    if (!raw.contains(oldPtr)) continue;
+    if (raw.contains(newPtr))
+      throw InputError(fmt::format("{}: {}: given both here and at its new place {}; keep only {}", source, from,
+                                   to, to));
+    const Json::json_pointer parent = newPtr.parent_pointer();
+    if (raw.contains(parent) && !raw[parent].is_object()) continue;  // the schema reports the bad parent
+    raw[newPtr] = raw[oldPtr];
+    raw[oldPtr.parent_pointer()].erase(oldPtr.back());
+    logWarning(fmt::format("{}: {} has moved to {}; it is read from there now (update the file)", source, from,
+                           to));
+  }
+}
+
 void applyOverride(Json& raw, const std::string& assignment) {
   const auto eq = assignment.find('=');
   if (eq == std::string::npos || eq == 0)
     throw InputError("--set " + assignment + ": expected path=value, e.g. fluid.viscosity=0.02");
-  const std::string path = assignment.substr(0, eq);
+  std::string path = assignment.substr(0, eq);
   const std::string valueText = assignment.substr(eq + 1);
   Json value = Json::parse(valueText, nullptr, /*allow_exceptions=*/false);
   if (value.is_discarded()) value = valueText;  // bare words are strings: solver.method=dfsph
+
+  migrateSceneJson(raw, "scene");
+  for (const auto& [from, to] : movedKeys()) {
+    const std::string oldPath = dotted(from), newPath = dotted(to);
+    if (path == oldPath || path.rfind(oldPath + ".", 0) == 0) {
+      logWarning(fmt::format("--set {}: has moved to {}", oldPath, newPath));
+      path = newPath + path.substr(oldPath.size());
+    }
+  }
 
   Json* node = &raw;
   std::stringstream segments(path);
@@ -550,14 +739,18 @@ void applyOverride(Json& raw, const std::string& assignment) {
     }
     if (last) *node = value;
   }
+  dropKeysOfOtherChoices(raw, parts, value);
 }
 
 Scene parseScene(const Json& raw, const std::string& source) {
-  return schema::readDocument(sceneSchema(), raw, source);
+  Json migrated = raw;
+  migrateSceneJson(migrated, source);
+  return schema::readDocument(sceneSchema(), migrated, source);
 }
 
 Scene loadScene(const std::string& path, const std::vector<std::string>& overrides) {
   Json raw = schema::readJsonFile(path, "scene");
+  migrateSceneJson(raw, path);
   for (const auto& o : overrides) applyOverride(raw, o);
   return parseScene(raw, overrides.empty() ? path : path + " (with --set overrides)");
 }

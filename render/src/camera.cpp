@@ -1,4 +1,4 @@
-#include "sphfx/render/camera.h"
+#include "camera.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "sphfx/render/gpu_layouts.h"
+#include "gpu_layouts.h"
 
 namespace sphfx::render {
 

@@ -1,4 +1,4 @@
-#include "sphfx/render/image_io.h"
+#include "image_io.h"
 
 #include <ImathBox.h>
 #include <ImfChannelList.h>

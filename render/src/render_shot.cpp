@@ -11,12 +11,12 @@
 #include <filesystem>
 
 #include "sphfx/core/error.h"
-#include "sphfx/core/gl.h"
+#include "sphfx/gpu/gl.h"
 #include "sphfx/core/log.h"
 #include "sphfx/core/manifest.h"
 #include "sphfx/core/mesh_io.h"
 #include "sphfx/core/particle_cache.h"
-#include "sphfx/render/renderer.h"
+#include "renderer.h"
 
 extern char** environ;
 

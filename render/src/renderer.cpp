@@ -1,4 +1,4 @@
-#include "sphfx/render/renderer.h"
+#include "renderer.h"
 
 #include <fmt/format.h>
 
@@ -7,12 +7,13 @@
 #include <limits>
 
 #include "sphfx/core/error.h"
-#include "sphfx/core/gl.h"
-#include "sphfx/core/gl_context.h"
-#include "sphfx/core/gpu_buffer.h"
-#include "sphfx/core/gpu_layout.h"
-#include "sphfx/core/shader_program.h"
-#include "sphfx/render/gpu_layouts.h"
+#include "sphfx/gpu/gl.h"
+#include "sphfx/gpu/gl_context.h"
+#include "sphfx/gpu/gpu_buffer.h"
+#include "sphfx/gpu/gpu_layout.h"
+#include "sphfx/gpu/shader_program.h"
+#include "gpu_layouts.h"
+#include "render_shaders.h"
 
 namespace sphfx::render {
 
@@ -335,21 +336,21 @@ Renderer::Impl::Impl(int w, int h, int requestedSamples) : width(w), height(h) {
   samples = std::clamp(requestedSamples, 1, std::max(1, int(maxSamples)));
   createFramebuffers();
   glCreateVertexArrays(1, &emptyVao);
-  sky = ShaderProgram::graphics("render_fullscreen.vert", "render_sky.frag");
-  solid = ShaderProgram::graphics("render_mesh.vert", "render_solid.frag");
-  depthOnly = ShaderProgram::graphics("render_mesh.vert", "render_depth.frag");
-  water = ShaderProgram::graphics("render_mesh.vert", "render_water.frag");
-  particles = ShaderProgram::graphics("render_particles.vert", "render_particles.frag");
+  sky = ShaderProgram::graphics(renderShaderTable(), "render_fullscreen.vert", "render_sky.frag");
+  solid = ShaderProgram::graphics(renderShaderTable(), "render_mesh.vert", "render_solid.frag");
+  depthOnly = ShaderProgram::graphics(renderShaderTable(), "render_mesh.vert", "render_depth.frag");
+  water = ShaderProgram::graphics(renderShaderTable(), "render_mesh.vert", "render_water.frag");
+  particles = ShaderProgram::graphics(renderShaderTable(), "render_particles.vert", "render_particles.frag");
   const auto pointsPass = [](int pass) {
-    return ShaderProgram::graphics("render_points.vert", "render_points.frag",
+    return ShaderProgram::graphics(renderShaderTable(), "render_points.vert", "render_points.frag",
                                    ShaderDefines().set("SPHFX_IMPOSTOR_PASS", pass));
   };
   pointsOcclude = pointsPass(SPHFX_IMPOSTOR_OCCLUDE);
   pointsNearest = pointsPass(SPHFX_IMPOSTOR_NEAREST);
   pointsShade = pointsPass(SPHFX_IMPOSTOR_SHADE);
-  nearestInit = ShaderProgram::compute("render_nearest_init.comp");
-  depthMax = ShaderProgram::compute("render_depth_max.comp");
-  pointsCull = ShaderProgram::compute("render_points_cull.comp");
+  nearestInit = ShaderProgram::compute(renderShaderTable(), "render_nearest_init.comp");
+  depthMax = ShaderProgram::compute(renderShaderTable(), "render_depth_max.comp");
+  pointsCull = ShaderProgram::compute(renderShaderTable(), "render_points_cull.comp");
   GLfloat pointRange[2] = {1, 1};
   glGetFloatv(GL_POINT_SIZE_RANGE, pointRange);
   maxPointSize = pointRange[1];

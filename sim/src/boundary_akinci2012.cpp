@@ -1,12 +1,13 @@
-#include "sphfx/sim/boundary_akinci2012.h"
+#include "boundary_akinci2012.h"
 
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 
 #include "bindings.h"
-#include "sphfx/core/gl.h"
-#include "sphfx/sim/gpu_types.h"
+#include "sphfx/gpu/gl.h"
+#include "gpu_types.h"
+#include "sim_shaders.h"
 
 namespace sphfx::sim {
 namespace {
@@ -161,7 +162,7 @@ BoundaryAkinci2012::BoundaryAkinci2012(const Scene& scene, DispatchGate& gate, c
   vel_.resize(size_t(count_) * 16);
   grid_ = std::make_unique<NeighborGrid>(gate, grid, count_);
   entry_ = gate.add(count_, kSimWorkGroup);
-  if (moving_) update_ = ShaderProgram::compute("sim_boundary_update.comp", defines);
+  if (moving_) update_ = ShaderProgram::compute(simShaderTable(), "sim_boundary_update.comp", defines);
 }
 
 void BoundaryAkinci2012::sort() const {

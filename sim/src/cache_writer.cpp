@@ -1,6 +1,6 @@
-#include "sphfx/sim/cache_writer.h"
+#include "cache_writer.h"
 
-#include "sphfx/sim/restart_file.h"
+#include "restart_file.h"
 
 namespace sphfx::sim {
 

@@ -1,4 +1,4 @@
-#include "sphfx/sim/dfsph_solver.h"
+#include "dfsph_solver.h"
 
 #include <fmt/format.h>
 
@@ -10,9 +10,10 @@
 #include "bindings.h"
 #include "sph_dfsph_bindings.glsl"
 #include "sphfx/core/error.h"
-#include "sphfx/core/gl.h"
-#include "sphfx/core/gl_context.h"
-#include "sphfx/sim/gpu_types.h"
+#include "sphfx/gpu/gl.h"
+#include "sphfx/gpu/gl_context.h"
+#include "gpu_types.h"
+#include "sim_shaders.h"
 
 namespace sphfx::sim {
 namespace {
@@ -32,20 +33,23 @@ int latticeNeighbours(double q) {
   return count - 1;
 }
 
-ShaderDefines withDensityWarmShare(ShaderDefines d) {
-  d.set("DFSPH_DENSITY_WARM_SHARE", float(DFSPHSolver::kDensityWarmShare));
+// The density solve's warm share and the walls' weight in it, which the non-pressure pass applies too.
+ShaderDefines withDensitySolveShares(const DfsphSettings& s, ShaderDefines d) {
+  d.set("DFSPH_DENSITY_WARM_SHARE", float(s.densityWarmShare));
+  d.set("DFSPH_DENSITY_WALL_PUSH", float(s.densityWallPush));
   return d;
 }
 
-// A particle with fewer than 60 % of a full neighbourhood is at the free surface; its divergence estimate
-// is skipped (SPlisHSPlasH uses 20 of 32 at the same support).
+// A particle with fewer than solver.dfsph.free_surface_fraction of a full neighbourhood is at the free
+// surface; its divergence estimate is skipped.
 double minNeighbours(const Scene& scene) {
-  return 0.6 * latticeNeighbours(scene.solver.kernelSupport);
+  return scene.solver.dfsph.freeSurfaceFraction * latticeNeighbours(scene.solver.kernelSupport);
 }
 
 }  // namespace
 
 ShaderDefines DFSPHSolver::factorDefines(const Scene& scene, ShaderDefines d) {
+  d = withDensitySolveShares(scene.solver.dfsph, std::move(d));
   d.set("DFSPH_MAX_NEIGHBORS", listSlots(scene));
   d.set("DFSPH_MIN_NEIGHBOURS", float(minNeighbours(scene)));
   const std::array<double, 3> wall = spikyWallScales(scene.solver.kernelSupport);
@@ -105,12 +109,9 @@ int DFSPHSolver::listSlots(const Scene& scene) {
 DFSPHSolver::DFSPHSolver(const Scene& scene, const DispatchGate& gate, const ShaderDefines& defines,
                          uint32_t particles)
     : gate_(&gate),
+      settings_(scene.solver.dfsph),
       particles_(particles),
       groups_(std::max<uint32_t>(1, (particles + kSimWorkGroup - 1) / kSimWorkGroup)),
-      minIterations_(scene.solver.minIterations),
-      minDivergenceIterations_(scene.solver.minDivergenceIterations),
-      maxIterations_(scene.solver.maxIterations),
-      momentum_(float(scene.solver.jacobiMomentum)),
       listSlots_(listSlots(scene)),
       particle_(size_t(std::max<uint32_t>(particles, 1)) * 16),
       increment_(size_t(std::max<uint32_t>(particles, 1)) * 4),
@@ -121,11 +122,12 @@ DFSPHSolver::DFSPHSolver(const Scene& scene, const DispatchGate& gate, const Sha
       neighbors_(size_t(std::max<uint32_t>(particles, 1)) * 16 * size_t(listSlots_ + 1)),
       boundary_(size_t(std::max<uint32_t>(particles, 1)) * 16),
       count_(size_t(std::max<uint32_t>(particles, 1)) * 4),
-      factor_(ShaderProgram::compute("sim_dfsph_factor.comp", factorDefines(scene, defines))),
-      nonPressure_(ShaderProgram::compute("sim_dfsph_nonpressure.comp", withDensityWarmShare(defines))) {
+      factor_(ShaderProgram::compute(simShaderTable(), "sim_dfsph_factor.comp", factorDefines(scene, defines))),
+      nonPressure_(ShaderProgram::compute(simShaderTable(), "sim_dfsph_nonpressure.comp", withDensitySolveShares(settings_, defines))) {
   checkListFitsTextureView();
-  density_ = makeSolve(defines, false, scene.solver.maxDensityError, 0);
-  divergence_ = makeSolve(defines, true, scene.solver.maxDivergenceError, 3 * DispatchGate::kParticleEntry);
+  density_ = makeSolve(withDensitySolveShares(settings_, defines), false, settings_.maxDensityError, 0);
+  divergence_ = makeSolve(withDensitySolveShares(settings_, defines), true, settings_.maxDivergenceError,
+                          3 * DispatchGate::kParticleEntry);
   DfsphControl c{};
   const uint32_t live[9] = {groups_, 1, 1, 1, 1, 1, groups_, 1, 1};
   std::copy(live, live + 9, c.args + 9);
@@ -139,17 +141,17 @@ DFSPHSolver::Solve DFSPHSolver::makeSolve(ShaderDefines d, bool divergence, doub
   if (divergence) d.set("DFSPH_DIVERGENCE");
   d.set("DFSPH_SOLVE", divergence ? 1 : 0);
   d.set("DFSPH_TOLERANCE", float(tolerance));
-  d.set("DFSPH_MIN_ITER", divergence ? minDivergenceIterations_ : minIterations_);
-  d.set("DFSPH_MAX_ITER", maxIterations_);
+  d.set("DFSPH_MIN_ITER", divergence ? settings_.minDivergenceIterations : settings_.minIterations);
+  d.set("DFSPH_MAX_ITER", settings_.maxIterations);
   d.set("DFSPH_GROUPS", groups_);
   d.set("DFSPH_GATE_WORD", gateWord);
-  d.set("DFSPH_OMEGA", float(kJacobiOmega));
-  if (momentum_ > 0) d.set("DFSPH_MOMENTUM");
-  d.set("DFSPH_WARM_SHARE", float(divergence ? kDivergenceWarmShare : kDensityWarmShare));
-  return {ShaderProgram::compute("sim_dfsph_begin.comp", d),
-          ShaderProgram::compute("sim_dfsph_source.comp", d),
-          ShaderProgram::compute("sim_dfsph_reduce.comp", d),
-          ShaderProgram::compute("sim_dfsph_apply.comp", d), divergence};
+  d.set("DFSPH_OMEGA", float(settings_.jacobiOmega));
+  if (settings_.jacobiMomentum > 0) d.set("DFSPH_MOMENTUM");
+  d.set("DFSPH_WARM_SHARE", float(divergence ? settings_.divergenceWarmShare : settings_.densityWarmShare));
+  return {ShaderProgram::compute(simShaderTable(), "sim_dfsph_begin.comp", d),
+          ShaderProgram::compute(simShaderTable(), "sim_dfsph_source.comp", d),
+          ShaderProgram::compute(simShaderTable(), "sim_dfsph_reduce.comp", d),
+          ShaderProgram::compute(simShaderTable(), "sim_dfsph_apply.comp", d), divergence};
 }
 
 // The iterations read the lists through a buffer texture (sph_dfsph.glsl), whose size is limited in
@@ -220,13 +222,13 @@ void DFSPHSolver::run(const Solve& s, const char* label, PassTimer& timer) const
   if (s.applyWarmStart) dispatch(s.apply, kApplyEntry, "sim_dfsph_apply.comp");
   glProgramUniform1ui(s.source.id(), warm, 0u);
   // The first iteration has no increment of its own to carry on (the buffer holds the warm start).
-  const GLint momentum = momentum_ > 0 ? s.source.uniform("uMomentum") : -1;
+  const GLint momentum = settings_.jacobiMomentum > 0 ? s.source.uniform("uMomentum") : -1;
   glProgramUniform1f(s.source.id(), momentum, 0.0f);
-  // maxIterations_ + 1 reductions: the last one records a solve that ran out of iterations.
-  for (int it = 0; it <= maxIterations_;) {
-    for (int k = 0; k < kCheckEvery && it <= maxIterations_; ++k, ++it) {
+  // settings_.maxIterations + 1 reductions: the last one records a solve that ran out of iterations.
+  for (int it = 0; it <= settings_.maxIterations;) {
+    for (int k = 0; k < kCheckEvery && it <= settings_.maxIterations; ++k, ++it) {
       dispatch(s.source, kSourceEntry, "sim_dfsph_source.comp");
-      if (it == 0) glProgramUniform1f(s.source.id(), momentum, momentum_);
+      if (it == 0) glProgramUniform1f(s.source.id(), momentum, float(settings_.jacobiMomentum));
       dispatch(s.reduce, kReduceEntry, "sim_dfsph_reduce.comp");
       glMemoryBarrier(GL_COMMAND_BARRIER_BIT);
       dispatch(s.apply, kApplyEntry, "sim_dfsph_apply.comp");

@@ -1,9 +1,9 @@
-#include "sphfx/sim/dispatch_gate.h"
+#include "dispatch_gate.h"
 
 #include "bindings.h"
-#include "sphfx/core/gl.h"
-#include "sphfx/core/gl_context.h"
-#include "sphfx/sim/gpu_types.h"
+#include "sphfx/gpu/gl.h"
+#include "sphfx/gpu/gl_context.h"
+#include "gpu_types.h"
 
 namespace sphfx::sim {
 

@@ -1,4 +1,4 @@
-#include "sphfx/sim/gpu_types.h"
+#include "gpu_types.h"
 
 #include <algorithm>
 #include <cmath>
@@ -51,8 +51,8 @@ double clampMargin(const Scene& scene) {
 }
 
 double speedOfSound(const Scene& scene) {
-  return scene.solver.eos == EquationOfState::Tait ? scene.solver.speedOfSound
-                                                   : std::sqrt(scene.solver.stiffness);
+  return scene.solver.wcsph.eos == EquationOfState::Tait ? scene.solver.speedOfSound
+                                                         : std::sqrt(scene.solver.wcsph.stiffness);
 }
 
 namespace {
@@ -80,10 +80,11 @@ SimParams makeSimParams(const Scene& scene, uint32_t particles, uint32_t boundar
   p.kernel[2] = float(k.viscosityLaplacian);
   p.kernel[3] = float(h * h);
   const double rho0 = scene.fluid.restDensity, c = speedOfSound(scene);
-  const bool tait = scene.solver.eos == EquationOfState::Tait;
+  const WcsphSettings& wcsph = scene.solver.wcsph;
+  const bool tait = wcsph.eos == EquationOfState::Tait;
   p.fluid[0] = float(rho0);
-  p.fluid[1] = float(tait ? rho0 * c * c / scene.solver.gamma : scene.solver.stiffness);
-  p.fluid[2] = float(scene.solver.gamma);
+  p.fluid[1] = float(tait ? rho0 * c * c / wcsph.gamma : wcsph.stiffness);
+  p.fluid[2] = float(wcsph.gamma);
   p.fluid[3] = float(c);
   p.viscosity[0] = float(scene.fluid.viscosity);
   p.viscosity[1] = float(scene.fluid.artificialViscosity);
@@ -92,7 +93,8 @@ SimParams makeSimParams(const Scene& scene, uint32_t particles, uint32_t boundar
   p.step[0] = float(scene.time.cflFactor);
   p.step[1] = float(scene.time.viscousFactor);
   // z: the acceleration bound's factor, Monaghan's force criterion (WCSPH) or the fall bound (DFSPH).
-  p.step[2] = float(scene.solver.method == Solver::DFSPH ? scene.time.fallFactor : scene.time.forceFactor);
+  p.step[2] = float(scene.solver.method == Solver::DFSPH ? scene.solver.dfsph.fallFactor
+                                                          : scene.solver.wcsph.forceFactor);
   p.step[3] = fixed ? float(scene.time.dt) : 0.0f;
   p.limits[0] = float(scene.time.dtMin);
   p.limits[1] = float(scene.time.dtMax);
@@ -108,7 +110,7 @@ SimParams makeSimParams(const Scene& scene, uint32_t particles, uint32_t boundar
 ShaderDefines simShaderDefines(const Scene& scene) {
   ShaderDefines d;
   d.set("SIM_WG", kSimWorkGroup);
-  d.set(scene.solver.eos == EquationOfState::Tait ? "EOS_TAIT" : "EOS_LINEAR");
+  d.set(scene.solver.wcsph.eos == EquationOfState::Tait ? "EOS_TAIT" : "EOS_LINEAR");
   if (scene.fluid.viscosityModel == ViscosityModel::Laplacian) d.set("VISCOSITY_LAPLACIAN");
   if (scene.fluid.viscosityModel == ViscosityModel::Artificial) d.set("VISCOSITY_ARTIFICIAL");
   if (!scene.colliders.empty()) d.set("HAS_COLLIDERS");

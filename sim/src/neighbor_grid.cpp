@@ -1,12 +1,13 @@
-#include "sphfx/sim/neighbor_grid.h"
+#include "neighbor_grid.h"
 
 #include <algorithm>
 #include <string>
 
 #include "bindings.h"
 #include "sphfx/core/error.h"
-#include "sphfx/core/gl.h"
-#include "sphfx/sim/gpu_types.h"
+#include "sphfx/gpu/gl.h"
+#include "gpu_types.h"
+#include "sim_shaders.h"
 
 namespace sphfx::sim {
 
@@ -44,9 +45,9 @@ NeighborGrid::NeighborGrid(DispatchGate& gate, const GridSpec& spec, uint32_t it
       cellRank_(std::max<size_t>(items, 1) * 8),
       sorted_(std::max<size_t>(items, 1) * 4),
       scan_(gate, spec.cells() + 2),
-      cells_(ShaderProgram::compute("sim_grid_cells.comp", splitDefines(spec))),
-      scatter_(ShaderProgram::compute("sim_grid_scatter.comp")),
-      sort_(ShaderProgram::compute("sim_grid_sort.comp", splitDefines(spec))),
+      cells_(ShaderProgram::compute(simShaderTable(), "sim_grid_cells.comp", splitDefines(spec))),
+      scatter_(ShaderProgram::compute(simShaderTable(), "sim_grid_scatter.comp")),
+      sort_(ShaderProgram::compute(simShaderTable(), "sim_grid_sort.comp", splitDefines(spec))),
       itemEntry_(gate.add(items, 64)),
       cellEntry_(gate.add(spec.cells(), 64)) {
   // Constant per grid: set once (programs are owned by this grid).

@@ -1,15 +1,16 @@
-#include "sphfx/sim/parallel_scan.h"
+#include "parallel_scan.h"
 
 #include "bindings.h"
-#include "sphfx/core/gl.h"
+#include "sphfx/gpu/gl.h"
+#include "sim_shaders.h"
 
 namespace sphfx::sim {
 
 ExclusiveScan::ExclusiveScan(DispatchGate& gate, uint32_t count)
     : gate_(&gate),
       count_(count),
-      blocks_(ShaderProgram::compute("sim_scan_blocks.comp")),
-      add_(ShaderProgram::compute("sim_scan_add.comp")) {
+      blocks_(ShaderProgram::compute(simShaderTable(), "sim_scan_blocks.comp")),
+      add_(ShaderProgram::compute(simShaderTable(), "sim_scan_add.comp")) {
   uint32_t n = count;
   do {
     const uint32_t blocks = (n + kBlock - 1) / kBlock;

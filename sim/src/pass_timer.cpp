@@ -1,6 +1,6 @@
-#include "sphfx/sim/pass_timer.h"
+#include "pass_timer.h"
 
-#include "sphfx/core/gl.h"
+#include "sphfx/gpu/gl.h"
 
 namespace sphfx::sim {
 

@@ -1,4 +1,4 @@
-#include "sphfx/sim/restart_file.h"
+#include "restart_file.h"
 
 #include <cstring>
 #include <filesystem>

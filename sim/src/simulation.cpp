@@ -7,12 +7,12 @@
 #include <filesystem>
 
 #include "sphfx/core/error.h"
-#include "sphfx/core/gl.h"
+#include "sphfx/gpu/gl.h"
 #include "sphfx/core/log.h"
 #include "sphfx/core/manifest.h"
 #include "sphfx/core/particle_cache.h"
-#include "sphfx/sim/cache_writer.h"
-#include "sphfx/sim/restart_file.h"
+#include "cache_writer.h"
+#include "restart_file.h"
 
 namespace sphfx::sim {
 namespace {

@@ -1,4 +1,4 @@
-#include "sphfx/sim/simulator.h"
+#include "simulator.h"
 
 #include <fmt/format.h>
 
@@ -10,8 +10,9 @@
 
 #include "bindings.h"
 #include "sphfx/core/error.h"
-#include "sphfx/core/gl.h"
-#include "sphfx/core/gl_context.h"
+#include "sphfx/gpu/gl.h"
+#include "sphfx/gpu/gl_context.h"
+#include "sim_shaders.h"
 
 namespace sphfx::sim {
 
@@ -39,7 +40,7 @@ Simulator::Simulator(const Scene& scene) : scene_(scene), frame_(scene.time.star
   boundary_ = std::make_unique<BoundaryAkinci2012>(scene, *gate_, spec, defines_);
   solver_ = makePressureSolver(scene, *gate_, defines_);
   stepper_ = std::make_unique<SymplecticEuler>(*gate_, defines_);
-  health_ = ShaderProgram::compute("sim_health.comp", defines_);
+  health_ = ShaderProgram::compute(simShaderTable(), "sim_health.comp", defines_);
 
   const SimParams params = makeSimParams(scene, count_, boundary_->count(), gate_->entries());
   params_.resize(sizeof params);

@@ -1,14 +1,15 @@
-#include "sphfx/sim/symplectic_euler.h"
+#include "symplectic_euler.h"
 
-#include "sphfx/core/gl.h"
-#include "sphfx/core/gl_context.h"
+#include "sphfx/gpu/gl.h"
+#include "sphfx/gpu/gl_context.h"
+#include "sim_shaders.h"
 
 namespace sphfx::sim {
 
 SymplecticEuler::SymplecticEuler(const DispatchGate& gate, const ShaderDefines& defines)
     : gate_(&gate),
-      timestep_(ShaderProgram::compute("sim_timestep.comp", defines)),
-      integrate_(ShaderProgram::compute("sim_integrate.comp", defines)) {}
+      timestep_(ShaderProgram::compute(simShaderTable(), "sim_timestep.comp", defines)),
+      integrate_(ShaderProgram::compute(simShaderTable(), "sim_integrate.comp", defines)) {}
 
 void SymplecticEuler::chooseStep(PassTimer& timer) const {
   timer.begin("timestep");

@@ -1,8 +1,9 @@
-#include "sphfx/sim/wcsph_solver.h"
+#include "wcsph_solver.h"
 
 #include <algorithm>
 
 #include "bindings.h"
+#include "sim_shaders.h"
 
 namespace sphfx::sim {
 
@@ -15,8 +16,8 @@ ShaderDefines withNeighborList(ShaderDefines d) {
 
 WCSPHSolver::WCSPHSolver(const Scene& scene, const DispatchGate& gate, const ShaderDefines& defines)
     : gate_(&gate),
-      density_(ShaderProgram::compute("sim_density.comp", withNeighborList(defines))),
-      force_(ShaderProgram::compute("sim_force.comp", withNeighborList(defines))),
+      density_(ShaderProgram::compute(simShaderTable(), "sim_density.comp", withNeighborList(defines))),
+      force_(ShaderProgram::compute(simShaderTable(), "sim_force.comp", withNeighborList(defines))),
       neighbors_(std::max<size_t>(countInitialParticles(scene), 1) * 18 * 4) {}
 
 void WCSPHSolver::computeDensity(PassTimer& timer) const {

@@ -7,7 +7,7 @@
 #include "sphfx/core/error.h"
 #include "sphfx/core/frame_files.h"
 #include "sphfx/core/scene.h"
-#include "sphfx/study/metrics.h"
+#include "metrics.h"
 #include "sphfx/study/study.h"
 
 namespace fs = std::filesystem;

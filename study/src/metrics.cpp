@@ -1,4 +1,4 @@
-#include "sphfx/study/metrics.h"
+#include "metrics.h"
 
 #include <algorithm>
 #include <cmath>

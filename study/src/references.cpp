@@ -1,4 +1,4 @@
-#include "sphfx/study/references.h"
+#include "references.h"
 
 #include <fmt/format.h>
 

@@ -1,4 +1,4 @@
-#include "sphfx/study/report.h"
+#include "report.h"
 
 #include <fmt/format.h>
 
@@ -11,7 +11,7 @@
 
 #include "sphfx/core/frame_files.h"
 #include "sphfx/core/log.h"
-#include "sphfx/study/metrics.h"
+#include "metrics.h"
 
 namespace fs = std::filesystem;
 

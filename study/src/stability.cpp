@@ -10,7 +10,7 @@
 #include "sphfx/core/frame_files.h"
 #include "sphfx/core/log.h"
 #include "sphfx/core/scene.h"
-#include "sphfx/study/metrics.h"
+#include "metrics.h"
 
 namespace fs = std::filesystem;
 

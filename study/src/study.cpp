@@ -13,8 +13,8 @@
 #include "sphfx/core/frame_files.h"
 #include "sphfx/core/log.h"
 #include "sphfx/core/scene.h"
-#include "sphfx/study/metrics.h"
-#include "sphfx/study/report.h"
+#include "metrics.h"
+#include "report.h"
 
 namespace fs = std::filesystem;
 

@@ -4,7 +4,7 @@
 // fixed order (particles sorted by cell then index; kernels gathered block by block in a fixed order), so
 // floating-point sums do not depend on how TBB splits the work. OpenVDB's fast sweeping (the band's
 // distances) updates the voxels of one diagonal slice in parallel, each from neighbours in other slices.
-#include "sphfx/surfacing/anisotropic.h"
+#include "anisotropic.h"
 
 #include <openvdb/tools/ChangeBackground.h>
 #include <openvdb/tools/FastSweeping.h>

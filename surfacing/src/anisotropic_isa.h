@@ -1,7 +1,7 @@
 #pragma once
 // The anisotropic functions with their instruction set chosen (internal: for the tests that compare them).
 #include "simd.h"
-#include "sphfx/surfacing/anisotropic.h"
+#include "anisotropic.h"
 
 namespace sphfx::surfacing {
 

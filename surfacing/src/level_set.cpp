@@ -15,7 +15,7 @@
 
 #include "face_neighbours.h"
 #include "sphfx/core/error.h"
-#include "sphfx/surfacing/anisotropic.h"
+#include "anisotropic.h"
 #include "sphfx/surfacing/surfacing.h"
 #include "zhu_bridson.h"
 
@@ -96,6 +96,10 @@ openvdb::FloatGrid::Ptr rasterizeYuTurk(const std::vector<std::array<float, 3>>&
   AnisotropicSettings settings;
   settings.spacing = params.particleSpacing > 0 ? params.particleSpacing : params.radius;
   settings.support = 2 * params.radius;
+  settings.lambda = params.anisotropic.lambda;
+  settings.maxStretch = params.anisotropic.maxStretch;
+  settings.isolatedBelow = params.anisotropic.isolatedBelow;
+  settings.isolatedScale = params.anisotropic.isolatedScale;
   const auto kernels = computeAnisotropicKernels(p, settings);
   timer.lap("rasterize_kernels");
   return rasterizeAnisotropic(kernels, params.voxelSize, halfWidth,

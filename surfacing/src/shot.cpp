@@ -1,5 +1,6 @@
 // One frame and one shot: cache in, level set and mesh out, figures into the manifest.
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <openvdb/io/File.h>
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
@@ -21,14 +22,6 @@ namespace fs = std::filesystem;
 
 namespace sphfx::surfacing {
 namespace {
-
-const std::vector<std::pair<std::string, SurfaceMethod>>& methodTable() {
-  static const std::vector<std::pair<std::string, SurfaceMethod>> table{
-      {"spheres", SurfaceMethod::Spheres},
-      {"zhu-bridson", SurfaceMethod::ZhuBridson},
-      {"anisotropic", SurfaceMethod::Anisotropic}};
-  return table;
-}
 
 void checkPositive(const char* option, double v) {
   if (!(std::isfinite(v) && v > 0))
@@ -109,21 +102,18 @@ std::vector<int> selectFrames(const std::string& shotDir, const std::string& ran
 }  // namespace
 
 std::string methodName(SurfaceMethod method) {
-  for (const auto& [n, m] : methodTable())
-    if (m == method) return n;
-  return "?";
+  return methodEntry(surfacingMethodRegistry(), method).name;
 }
 
 std::vector<std::string> methodNames() {
-  std::vector<std::string> names;
-  for (const auto& entry : methodTable()) names.push_back(entry.first);
-  return names;
+  return sphfx::methodNames(surfacingMethodRegistry());
 }
 
 SurfaceMethod parseMethod(const std::string& name) {
-  for (const auto& [n, m] : methodTable())
-    if (n == name) return m;
-  throw InputError("surface: --method: expected spheres, zhu-bridson or anisotropic, got \"" + name + "\"");
+  for (const auto& e : surfacingMethodRegistry())
+    if (e.name == name) return e.id;
+  throw InputError(fmt::format("surface: --method: expected one of {}, got \"{}\"", fmt::join(methodNames(), ", "),
+                               name));
 }
 
 SurfaceParams resolveParams(double spacing, const SurfaceSettings& settings, const SurfaceOverrides& o) {
@@ -144,6 +134,7 @@ SurfaceParams resolveParams(double spacing, const SurfaceSettings& settings, con
   p.radius = o.radius.value_or(settings.radiusFactor * spacing);
   p.smoothIterations = o.smoothIterations.value_or(settings.smoothIterations);
   p.adaptivity = o.adaptivity.value_or(settings.adaptivity);
+  p.anisotropic = settings.anisotropic;
   return p;
 }
 

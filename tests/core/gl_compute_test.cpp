@@ -9,11 +9,11 @@
 #include <vector>
 
 #include "sphfx/core/error.h"
-#include "sphfx/core/gl.h"
-#include "sphfx/core/gl_context.h"
-#include "sphfx/core/gpu_buffer.h"
-#include "sphfx/core/selftest.h"
-#include "sphfx/core/shader_program.h"
+#include "sphfx/gpu/gl.h"
+#include "sphfx/gpu/gl_context.h"
+#include "sphfx/gpu/gpu_buffer.h"
+#include "sphfx/gpu/selftest.h"
+#include "sphfx/gpu/shader_program.h"
 
 using namespace sphfx;
 
@@ -67,7 +67,7 @@ struct FetchedTexels {
 };
 
 FetchedTexels fetchThroughViews(const GpuBuffer& floats, const GpuBuffer& words, uint32_t count) {
-  const ShaderProgram p = ShaderProgram::compute("selftest_texture.comp");
+  const ShaderProgram p = ShaderProgram::compute(gpuShaderTable(), "selftest_texture.comp");
   GpuBuffer floatsOut(size_t(count) * 16), wordsOut(size_t(count) * 4);
   floats.bindTexture(0, GL_RGBA32F);
   words.bindTexture(1, GL_R32UI);

@@ -6,17 +6,17 @@
 #include <string>
 #include <vector>
 
-#include "sphfx/core/gl.h"
-#include "sphfx/core/gpu_layout.h"
-#include "sphfx/core/shader_program.h"
+#include "sphfx/gpu/gl.h"
+#include "sphfx/gpu/gpu_layout.h"
+#include "sphfx/gpu/shader_program.h"
 
 namespace sphfx::test {
 
-inline ShaderProgram buildLayoutProgram(const std::string& files) {
+inline ShaderProgram buildLayoutProgram(const ShaderTable& stage, const std::string& files) {
   // "a.vert+b.frag" for graphics programs, one file for compute.
   const auto plus = files.find('+');
-  if (plus == std::string::npos) return ShaderProgram::compute(files);
-  return ShaderProgram::graphics(files.substr(0, plus), files.substr(plus + 1));
+  if (plus == std::string::npos) return ShaderProgram::compute(stage, files);
+  return ShaderProgram::graphics(stage, files.substr(0, plus), files.substr(plus + 1));
 }
 
 inline GLint resourceProperty(GLuint program, GLenum interface, GLuint index, GLenum property) {
@@ -25,10 +25,11 @@ inline GLint resourceProperty(GLuint program, GLenum interface, GLuint index, GL
   return value;
 }
 
-inline void checkGpuLayouts(const std::vector<GpuBlockLayout>& layouts) {
+/// `stage`: the table of the library whose programs declare the blocks.
+inline void checkGpuLayouts(const ShaderTable& stage, const std::vector<GpuBlockLayout>& layouts) {
   for (const GpuBlockLayout& layout : layouts) {
     SCOPED_TRACE(layout.block + " in " + layout.shaderFile);
-    const ShaderProgram program = buildLayoutProgram(layout.shaderFile);
+    const ShaderProgram program = buildLayoutProgram(stage, layout.shaderFile);
     const GLenum blockInterface = layout.uniform ? GL_UNIFORM_BLOCK : GL_SHADER_STORAGE_BLOCK;
     const GLenum memberInterface = layout.uniform ? GL_UNIFORM : GL_BUFFER_VARIABLE;
     const GLuint block = glGetProgramResourceIndex(program.id(), blockInterface, layout.block.c_str());

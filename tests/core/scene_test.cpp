@@ -30,7 +30,7 @@ std::string errorOf(const Json& raw) {
 TEST(Scene, DefaultsFillEverything) {
   const Scene s = parseScene(minimal(), "x.json");
   EXPECT_EQ(s.solver.method, Solver::WCSPH);
-  EXPECT_EQ(s.solver.minDivergenceIterations, 1);  // SPlisHSPlasH's divergence solve
+  EXPECT_EQ(s.solver.dfsph.minDivergenceIterations, 1);  // SPlisHSPlasH's divergence solve
   EXPECT_EQ(s.time.mode, TimeStepMode::Cfl);
   EXPECT_DOUBLE_EQ(s.fluid.restDensity, 1000);
   EXPECT_DOUBLE_EQ(s.gravity[1], -9.81);
@@ -53,8 +53,8 @@ TEST(Scene, ShippedAndTestScenesRoundTrip) {
 TEST(Scene, EverythingSceneValuesArrive) {
   const Scene s = loadScene(kDir + "/tests/scenes/good/everything.json");
   EXPECT_EQ(s.solver.method, Solver::DFSPH);
-  EXPECT_EQ(s.solver.minIterations, 3);
-  EXPECT_EQ(s.solver.minDivergenceIterations, 2);
+  EXPECT_EQ(s.solver.dfsph.minIterations, 3);
+  EXPECT_EQ(s.solver.dfsph.minDivergenceIterations, 2);
   EXPECT_EQ(s.time.startFrame, 1001);
   ASSERT_EQ(s.colliders.size(), 2u);
   EXPECT_EQ(s.colliders[0].shape, Shape::Sphere);
@@ -84,8 +84,8 @@ TEST(Scene, UnknownKeySuggestsNearMiss) {
 
 TEST(Scene, RangesAreEnforced) {
   Json raw = minimal();
-  raw["solver"]["gamma"] = 20;
-  EXPECT_EQ(errorOf(raw), "x.json: /solver/gamma: expected a number in [1, 10], got 20");
+  raw["solver"]["wcsph"]["gamma"] = 20;
+  EXPECT_EQ(errorOf(raw), "x.json: /solver/wcsph/gamma: expected a number in [1, 10], got 20");
   raw = minimal();
   raw["render"]["samples"] = 0;
   EXPECT_EQ(errorOf(raw), "x.json: /render/samples: expected an integer in [1, 16], got 0");
@@ -93,6 +93,7 @@ TEST(Scene, RangesAreEnforced) {
 
 TEST(Scene, OverridesAreValidatedTheSameWay) {
   Json raw = minimal();
+  applyOverride(raw, "fluid.viscosity_model=laplacian");
   applyOverride(raw, "fluid.viscosity=0.02");
   applyOverride(raw, "solver.method=dfsph");  // a bare word is a string
   applyOverride(raw, "fluid.blocks.0.max=[0.4,0.4,0.4]");
@@ -149,4 +150,84 @@ TEST(Scene, PackingCompressesTheInitialLattice) {
   const Scene s = parseScene(raw, "x.json");
   EXPECT_EQ(countInitialParticles(s), 1000u);                  // 10^3 at half the spacing
   EXPECT_DOUBLE_EQ(s.particleMass(), 1000 * 0.1 * 0.1 * 0.1);  // mass follows the rest spacing
+}
+
+TEST(Scene, AParameterNothingReadsIsAnError) {
+  Json raw = minimal();  // WCSPH, CFL steps, artificial viscosity
+  raw["solver"]["dfsph"]["max_iterations"] = 300;
+  EXPECT_EQ(errorOf(raw),
+            "x.json: /solver/dfsph: not read with these settings (only when the method is \"dfsph\"); remove it");
+  raw = minimal();
+  raw["time"]["dt"] = 0.001;
+  EXPECT_EQ(errorOf(raw), "x.json: /time/dt: not read with these settings (fixed mode); remove it");
+  raw = minimal();
+  raw["fluid"]["viscosity"] = 1e-6;
+  EXPECT_EQ(errorOf(raw), "x.json: /fluid/viscosity: not read with these settings (laplacian model); remove it");
+  raw = minimal();
+  raw["solver"]["wcsph"]["eos"] = "linear";
+  raw["solver"]["wcsph"]["gamma"] = 7;
+  EXPECT_EQ(errorOf(raw), "x.json: /solver/wcsph/gamma: not read with these settings (tait eos); remove it");
+  raw = minimal();
+  raw["surface"]["anisotropic"]["lambda"] = 0.95;
+  EXPECT_NE(errorOf(raw).find("/surface/anisotropic: not read"), std::string::npos);
+  raw["surface"]["method"] = "anisotropic";
+  EXPECT_DOUBLE_EQ(parseScene(raw, "x.json").surface.anisotropic.lambda, 0.95);
+}
+
+TEST(Scene, MovedKeysStillLoadAtTheirNewPlace) {
+  Json raw = minimal();
+  raw["solver"]["method"] = "dfsph";
+  raw["solver"]["max_iterations"] = 300;
+  raw["time"]["fall_factor"] = 0.3;
+  Scene s = parseScene(raw, "x.json");
+  EXPECT_EQ(s.solver.dfsph.maxIterations, 300);
+  EXPECT_DOUBLE_EQ(s.solver.dfsph.fallFactor, 0.3);
+  raw["solver"]["dfsph"]["max_iterations"] = 100;  // both places: which one is meant?
+  EXPECT_NE(errorOf(raw).find("/solver/max_iterations: given both here and at its new place"), std::string::npos);
+
+  raw = minimal();
+  applyOverride(raw, "solver.eos=linear");  // an old --set path moves too
+  applyOverride(raw, "solver.stiffness=5000");
+  s = parseScene(raw, "x.json");
+  EXPECT_EQ(s.solver.wcsph.eos, EquationOfState::Linear);
+  EXPECT_DOUBLE_EQ(s.solver.wcsph.stiffness, 5000);
+}
+
+TEST(Scene, SwitchingAChoiceDropsWhatOnlyTheOtherChoicesRead) {
+  Json raw = minimal();
+  raw["solver"]["wcsph"]["gamma"] = 7;
+  raw["time"]["dt_max"] = 0.004;
+  raw["fluid"]["artificial_viscosity"] = 0.05;
+  applyOverride(raw, "solver.method=dfsph");
+  applyOverride(raw, "time.dt_mode=fixed");
+  applyOverride(raw, "fluid.viscosity_model=laplacian");
+  EXPECT_FALSE(raw["solver"].contains("wcsph"));
+  EXPECT_FALSE(raw["time"].contains("dt_max"));
+  EXPECT_FALSE(raw["fluid"].contains("artificial_viscosity"));
+  const Scene s = parseScene(raw, "x.json");
+  EXPECT_EQ(s.solver.method, Solver::DFSPH);
+  EXPECT_EQ(s.time.mode, TimeStepMode::Fixed);
+  // Setting the choice it already has keeps its own keys.
+  raw = minimal();
+  raw["solver"]["wcsph"]["gamma"] = 6;
+  applyOverride(raw, "solver.method=wcsph");
+  EXPECT_DOUBLE_EQ(parseScene(raw, "x.json").solver.wcsph.gamma, 6);
+}
+
+TEST(Scene, MethodEnumsAndDocsComeFromTheRegistries) {
+  const std::string doc = sceneReferenceMarkdown();
+  for (const auto& e : pressureSolverRegistry()) {
+    EXPECT_NE(doc.find("\"" + e.name + "\": " + e.description), std::string::npos) << e.name;
+    Json raw = minimal();
+    raw["solver"]["method"] = e.name;
+    EXPECT_EQ(parseScene(raw, "x.json").solver.method, e.id);
+    if (!e.parameterGroup.empty()) EXPECT_NE(doc.find("`solver." + e.parameterGroup + "`"), std::string::npos);
+  }
+  for (const auto& e : surfacingMethodRegistry()) {
+    EXPECT_NE(doc.find("\"" + e.name + "\": " + e.description), std::string::npos) << e.name;
+    Json raw = minimal();
+    raw["surface"]["method"] = e.name;
+    EXPECT_EQ(parseScene(raw, "x.json").surface.method, e.id);
+    if (!e.parameterGroup.empty()) EXPECT_NE(doc.find("`surface." + e.parameterGroup + "`"), std::string::npos);
+  }
 }

@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "sphfx/core/error.h"
-#include "sphfx/render/camera.h"
+#include "camera.h"
 #include "sphfx/render/render_shot.h"
 
 using namespace sphfx;

@@ -11,7 +11,7 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "sphfx/render/image_io.h"
+#include "image_io.h"
 
 using namespace sphfx::render;
 

@@ -11,7 +11,8 @@
 
 #include "../core/gpu_layout_check.h"
 #include "render_test_util.h"
-#include "sphfx/render/gpu_layouts.h"
+#include "gpu_layouts.h"
+#include "render_shaders.h"
 
 using namespace sphfx;
 using namespace sphfx::render;
@@ -35,7 +36,7 @@ double alphaSum(const Image& img) {
 }  // namespace
 
 TEST_F(RenderGL, BlocksMatchGlsl) {
-  test::checkGpuLayouts(renderGpuLayouts());
+  test::checkGpuLayouts(renderShaderTable(), renderGpuLayouts());
 }
 
 TEST_F(RenderGL, SphereCoverageMatchesProjectedDisc) {

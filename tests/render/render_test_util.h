@@ -7,8 +7,8 @@
 #include <memory>
 #include <string>
 
-#include "sphfx/core/gl_context.h"
-#include "sphfx/render/renderer.h"
+#include "sphfx/gpu/gl_context.h"
+#include "renderer.h"
 
 namespace sphfx::test {
 

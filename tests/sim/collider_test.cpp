@@ -7,10 +7,11 @@
 #include <cmath>
 
 #include "sim_test_util.h"
-#include "sphfx/core/gl.h"
-#include "sphfx/core/shader_program.h"
-#include "sphfx/sim/gpu_types.h"
-#include "sphfx/sim/simulator.h"
+#include "sphfx/gpu/gl.h"
+#include "sphfx/gpu/shader_program.h"
+#include "gpu_types.h"
+#include "simulator.h"
+#include "sim_shaders.h"
 
 using namespace sphfx;
 
@@ -132,7 +133,7 @@ TEST(Colliders, SceneWithoutCollidersCompilesNoColliderCode) {
   // The collider code is #if'd out of the source, so the compiled integration pass (the only solver pass
   // with collider code) has no collider buffers at all; with HAS_COLLIDERS it has both.
   auto blocks = [](const ShaderDefines& defines) {
-    const ShaderProgram p = ShaderProgram::compute("sim_integrate.comp", defines);
+    const ShaderProgram p = ShaderProgram::compute(simShaderTable(), "sim_integrate.comp", defines);
     int n = 0;
     for (const char* name : {"SimColliders", "SimColliderKeys"})
       n += glGetProgramResourceIndex(p.id(), GL_SHADER_STORAGE_BLOCK, name) != GL_INVALID_INDEX;

@@ -17,14 +17,15 @@
 
 #include "sim_test_util.h"
 #include "sph_dfsph_bindings.glsl"
-#include "sphfx/core/gl_context.h"
+#include "sphfx/gpu/gl_context.h"
 #include "sphfx/core/particle_cache.h"
 #include "sphfx/core/scene.h"
-#include "sphfx/sim/dfsph_solver.h"
+#include "dfsph_solver.h"
 #include "sphfx/sim/simulation.h"
-#include "sphfx/sim/simulator.h"
-#include "sphfx/study/metrics.h"
-#include "sphfx/study/references.h"
+#include "simulator.h"
+#include "metrics.h"
+#include "references.h"
+#include "sim_shaders.h"
 
 namespace sphfx::sim {
 namespace {
@@ -101,7 +102,7 @@ FactorLists runFactorPass(const Scene& scene, const std::vector<std::array<float
   boundary.bindStorage(SPHFX_SSBO_SIM_DFSPH_BOUNDARY);
   count.bindStorage(SPHFX_SSBO_SIM_DFSPH_COUNT);
   accel.bindStorage(SPHFX_SSBO_SIM_ACCEL);  // the walls' hydrostatic push (none here)
-  const ShaderProgram factor = ShaderProgram::compute(
+  const ShaderProgram factor = ShaderProgram::compute(simShaderTable(), 
       "sim_dfsph_factor.comp", DFSPHSolver::factorDefines(scene, simShaderDefines(scene)));
   factor.use();
   glMemoryBarrier(GL_ALL_BARRIER_BITS);
@@ -199,8 +200,8 @@ TEST_F(DFSPH, HydrostaticTankReachesRestDensityAndPressureProfile) {
   Simulator sim(s);
   while (sim.frame() < s.time.endFrame) {
     const FrameStats f = sim.advance();
-    EXPECT_LE(stat(f, "density_error_max"), s.solver.maxDensityError) << "frame " << f.frame;
-    EXPECT_GE(stat(f, "pressure_iterations_mean"), s.solver.minIterations);
+    EXPECT_LE(stat(f, "density_error_max"), s.solver.dfsph.maxDensityError) << "frame " << f.frame;
+    EXPECT_GE(stat(f, "pressure_iterations_mean"), s.solver.dfsph.minIterations);
   }
   const ParticleFrame f = sim.cacheFrame();
   const double height = 0.3, h = s.kernelRadius(), g = -s.gravity[1], rho0 = s.fluid.restDensity;
@@ -273,12 +274,12 @@ TEST_F(DFSPH, DivergenceSolveMeetsItsTolerance) {
   // this tank stop at 100 iterations with 1.04e-4 and 1.19e-4: the relaxed Jacobi iteration converges
   // slowly at dt_max = 0.005 s; docs/accuracy.md).
   const Scene s = scene("hydrostatic.json",
-                        {"fluid.spacing=0.02", "time.end_frame=10", "solver.max_divergence_error=2e-4"});
+                        {"fluid.spacing=0.02", "time.end_frame=10", "solver.dfsph.max_divergence_error=2e-4"});
   Simulator sim(s);
   while (sim.frame() < s.time.endFrame) {
     const FrameStats f = sim.advance();
-    EXPECT_LE(stat(f, "divergence_error_max"), s.solver.maxDivergenceError) << "frame " << f.frame;
-    EXPECT_LT(stat(f, "divergence_iterations_max"), s.solver.maxIterations) << "frame " << f.frame;
+    EXPECT_LE(stat(f, "divergence_error_max"), s.solver.dfsph.maxDivergenceError) << "frame " << f.frame;
+    EXPECT_LT(stat(f, "divergence_iterations_max"), s.solver.dfsph.maxIterations) << "frame " << f.frame;
   }
 }
 
@@ -291,7 +292,7 @@ TEST_F(DFSPH, FirstStepFromRestIsBoundedByTheFallDisplacement) {
   Simulator sim(s);
   const FrameStats f = sim.advance();
   // From rest |v| = 0: the displacement bound gives sqrt(cfl d / g), the fall bound sqrt(fall d / g).
-  const double factor = std::min(s.time.cflFactor, s.time.fallFactor);
+  const double factor = std::min(s.time.cflFactor, s.solver.dfsph.fallFactor);
   const double bound = std::sqrt(factor * s.fluid.spacing / -s.gravity[1]);  // 0.0175 s
   EXPECT_NEAR(f.dtMax, bound, 1e-3 * bound) << "the first step is the largest one from rest";
   EXPECT_GT(f.substeps, 3) << "a 0.1 s frame in steps of at most " << bound << " s";
@@ -299,35 +300,35 @@ TEST_F(DFSPH, FirstStepFromRestIsBoundedByTheFallDisplacement) {
 
 // The first steps of the default dam break from rest (8000 particles, the 12.4 ms step of the fall
 // bound): every solve ends within its tolerance. The constant-density solve builds the column's whole
-// pressure from zero there and needs 72 iterations (144 with solver.jacobi_momentum=0, which at
+// pressure from zero there and needs 72 iterations (144 with solver.dfsph.jacobi_momentum=0, which at
 // SPlisHSPlasH's cap of 100 stopped at 0.135 %).
 TEST_F(DFSPH, FirstStepsFromRestMeetTheDensityTolerance) {
   const Scene s = scene("dam_break.json", {"time.end_frame=3", "time.dt_max=0.02"});
   Simulator sim(s);
   while (sim.frame() < s.time.endFrame) {
     const FrameStats f = sim.advance();
-    EXPECT_LE(stat(f, "density_error_max"), s.solver.maxDensityError) << "frame " << f.frame;
-    EXPECT_LE(stat(f, "divergence_error_max"), s.solver.maxDivergenceError) << "frame " << f.frame;
-    EXPECT_LT(stat(f, "pressure_iterations_max"), s.solver.maxIterations) << "frame " << f.frame;
+    EXPECT_LE(stat(f, "density_error_max"), s.solver.dfsph.maxDensityError) << "frame " << f.frame;
+    EXPECT_LE(stat(f, "divergence_error_max"), s.solver.dfsph.maxDivergenceError) << "frame " << f.frame;
+    EXPECT_LT(stat(f, "pressure_iterations_max"), s.solver.dfsph.maxIterations) << "frame " << f.frame;
   }
 }
 
-// The displacement bound alone (time.fall_factor 0.4 = cfl, SPlisHSPlasH's rule) lets the default dam
+// The displacement bound alone (solver.dfsph.fall_factor 0.4 = cfl, SPlisHSPlasH's rule) lets the default dam
 // break's first step from rest be half a 30 fps frame, 16.7 ms: more than 20x the seed's 0.7 ms. Before the
 // mirrored walls this step blew up the floor-wall corner (862 particles above 3 m/s in frame 2, docs/dfsph.md
 // "Time step from rest"). Now every solve of the first 0.1 s ends within its tolerance, and no particle is
 // faster than a fall through the column's whole height, sqrt(2 g H) (measured: 1.60 m/s at 0.1 s).
 TEST_F(DFSPH, FrameSizedFirstStepAtTheDefaultSpacingStaysBounded) {
-  const Scene s = scene("dam_break.json", {"time.end_frame=4", "time.dt_max=0.02", "time.fall_factor=0.4"});
+  const Scene s = scene("dam_break.json", {"time.end_frame=4", "time.dt_max=0.02", "solver.dfsph.fall_factor=0.4"});
   ASSERT_DOUBLE_EQ(s.fluid.spacing, 0.01);
   Simulator sim(s);
   double largest = 0;
   while (sim.frame() < s.time.endFrame) {
     const FrameStats f = sim.advance();
     largest = std::max(largest, double(f.dtMax));
-    EXPECT_LE(stat(f, "density_error_max"), s.solver.maxDensityError) << "frame " << f.frame;
-    EXPECT_LE(stat(f, "divergence_error_max"), s.solver.maxDivergenceError) << "frame " << f.frame;
-    EXPECT_LT(stat(f, "pressure_iterations_max"), s.solver.maxIterations) << "frame " << f.frame;
+    EXPECT_LE(stat(f, "density_error_max"), s.solver.dfsph.maxDensityError) << "frame " << f.frame;
+    EXPECT_LE(stat(f, "divergence_error_max"), s.solver.dfsph.maxDivergenceError) << "frame " << f.frame;
+    EXPECT_LT(stat(f, "pressure_iterations_max"), s.solver.dfsph.maxIterations) << "frame " << f.frame;
   }
   EXPECT_GE(largest, 20 * 0.0007) << "the first step from rest is limited by the frame, not the fall";
   const double height = s.fluid.blocks[0].max[1] - s.fluid.blocks[0].min[1];
@@ -341,7 +342,7 @@ TEST_F(DFSPH, FrameSizedFirstStepAtTheDefaultSpacingStaysBounded) {
   EXPECT_LT(fastest, fall) << "a particle faster than a fall through the whole column";
 }
 
-// Heavy-ball momentum (solver.jacobi_momentum, docs/dfsph.md "Momentum") accelerates the iterations but
+// Heavy-ball momentum (solver.dfsph.jacobi_momentum, docs/dfsph.md "Momentum") accelerates the iterations but
 // solves the same system: on the first frame of the default dam break from rest (four steps that build
 // the column's pressure from zero) it needs at most 70 % of plain Jacobi's iterations (measured: 51 %),
 // every solve ends within tolerance, and the pressures of the two runs agree per particle to within
@@ -353,12 +354,12 @@ TEST_F(DFSPH, MomentumSolvesTheSameSystemInFewerIterations) {
   };
   auto run = [](const std::string& momentum) {
     const Scene s =
-        scene("dam_break.json", {"time.end_frame=2", "time.dt_max=0.02", "solver.jacobi_momentum=" + momentum,
+        scene("dam_break.json", {"time.end_frame=2", "time.dt_max=0.02", "solver.dfsph.jacobi_momentum=" + momentum,
                                  R"(cache.attributes=["pressure","id"])"});
     Simulator sim(s);
     const FrameStats f = sim.advance();
-    EXPECT_LE(stat(f, "density_error_max"), s.solver.maxDensityError) << "momentum " << momentum;
-    EXPECT_LT(stat(f, "pressure_iterations_max"), s.solver.maxIterations) << "momentum " << momentum;
+    EXPECT_LE(stat(f, "density_error_max"), s.solver.dfsph.maxDensityError) << "momentum " << momentum;
+    EXPECT_LT(stat(f, "pressure_iterations_max"), s.solver.dfsph.maxIterations) << "momentum " << momentum;
     Run r;
     r.iterations = stat(f, "pressure_iterations_mean") * f.substeps;
     const ParticleFrame c = sim.cacheFrame();
@@ -397,7 +398,7 @@ TEST_P(DFSPHAtCfl, DamBreakAtLargeTimeStepMatchesMartinMoyce) {
   while (sim.frame() < s.time.endFrame) {
     const FrameStats f = sim.advance();
     dtMax = std::max(dtMax, f.dtMax);
-    EXPECT_LE(stat(f, "density_error_mean"), s.solver.maxDensityError) << "frame " << f.frame;
+    EXPECT_LE(stat(f, "density_error_mean"), s.solver.dfsph.maxDensityError) << "frame " << f.frame;
     float x = 0;
     for (const auto& p : sim.cacheFrame().position) x = std::max(x, p[0]);
     T.push_back(s.frameTime(sim.frame()) * std::sqrt(2 * g / a));

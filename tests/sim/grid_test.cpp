@@ -13,10 +13,11 @@
 #include "bindings.h"
 #include "sim_test_util.h"
 #include "sphfx/core/error.h"
-#include "sphfx/core/gl.h"
-#include "sphfx/sim/gpu_types.h"
-#include "sphfx/sim/neighbor_grid.h"
-#include "sphfx/sim/parallel_scan.h"
+#include "sphfx/gpu/gl.h"
+#include "gpu_types.h"
+#include "neighbor_grid.h"
+#include "parallel_scan.h"
+#include "sim_shaders.h"
 
 using namespace sphfx;
 using Vec4 = std::array<float, 4>;
@@ -210,7 +211,7 @@ INSTANTIATE_TEST_SUITE_P(GridSplits, NeighbourSets,
 
 TEST(SimLayout, BlocksMatchGlsl) {
   auto ctx = test::makeContext();
-  sphfx::test::checkGpuLayouts(sim::simGpuLayouts());
+  sphfx::test::checkGpuLayouts(simShaderTable(), sim::simGpuLayouts());
 }
 
 }  // namespace

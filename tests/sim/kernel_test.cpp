@@ -6,8 +6,8 @@
 
 #include "sim_test_util.h"
 #include "sphfx/core/scene.h"
-#include "sphfx/sim/boundary_akinci2012.h"
-#include "sphfx/sim/gpu_types.h"
+#include "boundary_akinci2012.h"
+#include "gpu_types.h"
 
 using namespace sphfx;
 

@@ -19,12 +19,12 @@
 #include "bindings.h"
 #include "sim_test_util.h"
 #include "sphfx/core/error.h"
-#include "sphfx/core/gl.h"
-#include "sphfx/sim/boundary_akinci2012.h"
-#include "sphfx/sim/gpu_types.h"
-#include "sphfx/sim/neighbor_grid.h"
-#include "sphfx/sim/simulator.h"
-#include "sphfx/study/metrics.h"
+#include "sphfx/gpu/gl.h"
+#include "boundary_akinci2012.h"
+#include "gpu_types.h"
+#include "neighbor_grid.h"
+#include "simulator.h"
+#include "metrics.h"
 
 using namespace sphfx;
 using Vec4 = std::array<float, 4>;

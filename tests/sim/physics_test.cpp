@@ -8,8 +8,8 @@
 #include <sstream>
 
 #include "sim_test_util.h"
-#include "sphfx/sim/gpu_types.h"
-#include "sphfx/sim/simulator.h"
+#include "gpu_types.h"
+#include "simulator.h"
 
 using namespace sphfx;
 

@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "sphfx/core/error.h"
-#include "sphfx/study/metrics.h"
+#include "metrics.h"
 
 using namespace sphfx;
 using namespace sphfx::study;

@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "sphfx/core/error.h"
-#include "sphfx/study/references.h"
+#include "references.h"
 
 using namespace sphfx::study;
 

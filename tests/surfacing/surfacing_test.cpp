@@ -13,7 +13,7 @@
 #include "anisotropic_isa.h"
 #include "band_distance.h"
 #include "sphfx/core/scene.h"
-#include "sphfx/surfacing/anisotropic.h"
+#include "anisotropic.h"
 #include "sphfx/surfacing/surfacing.h"
 #include "test_util.h"
 #include "zhu_bridson.h"

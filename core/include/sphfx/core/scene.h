@@ -10,20 +10,19 @@
 #include <string>
 #include <vector>
 
+#include "sphfx/core/methods.h"
 #include "sphfx/core/schema.h"
 
 namespace sphfx {
 
 using Vec3d = std::array<double, 3>;
 
-enum class Solver { WCSPH, DFSPH };
 enum class EquationOfState { Linear, Tait };
 enum class ViscosityModel { None, Laplacian, Artificial };
 enum class TimeStepMode { Fixed, Cfl };
 enum class Shape { Box, Sphere };
 /// Optional per-particle attributes of the cache. Position `P` and velocity `v` are always stored.
 enum class CacheAttribute { Density, Pressure, Id };
-enum class SurfaceMethod { Spheres, ZhuBridson, Anisotropic };
 enum class RenderSource { Surface, Particles };
 enum class ColorBy { Height, Speed };
 enum class ImageFormat { Png, Exr };
@@ -60,19 +59,38 @@ struct Fluid {
   std::vector<FluidBlock> blocks;
 };
 
-struct SolverSettings {
-  Solver method = Solver::WCSPH;
+/// WCSPH's own parameters (solver.wcsph).
+struct WcsphSettings {
   EquationOfState eos = EquationOfState::Tait;
-  double stiffness = 0;     ///< linear EOS: p = k (rho - rho0), k in Pa / (kg/m^3) = m^2/s^2
-  double speedOfSound = 0;  ///< Tait EOS: B = rho0 c^2 / gamma
-  double gamma = 7;
-  double kernelSupport = 0;       ///< kernel support radius h as a multiple of the particle spacing
-  double maxDensityError = 0;     ///< DFSPH: average density error tolerance (fraction of rho0)
-  double maxDivergenceError = 0;  ///< DFSPH: mean |D rho/Dt| / rho0 * dt (relative change per step)
+  double stiffness = 0;  ///< linear EOS: p = k (rho - rho0), k in Pa / (kg/m^3) = m^2/s^2
+  double gamma = 7;      ///< Tait exponent
+  double forceFactor = 0;  ///< CFL mode: factor on Monaghan's force limit sqrt(h / |a|max)
+};
+
+/// DFSPH's own parameters (solver.dfsph).
+struct DfsphSettings {
+  double maxDensityError = 0;     ///< average density error tolerance (fraction of rho0)
+  double maxDivergenceError = 0;  ///< mean |D rho/Dt| / rho0 * dt (relative change per step)
   int minIterations = 0;
   int minDivergenceIterations = 0;
   int maxIterations = 0;
-  double jacobiMomentum = 0;  ///< DFSPH: heavy-ball share of the previous Jacobi increment
+  double jacobiOmega = 0;          ///< relaxation of the projected Jacobi updates
+  double jacobiMomentum = 0;       ///< heavy-ball share of the previous Jacobi increment
+  double densityWarmShare = 0;     ///< share of the last substep's stiffness the density solve starts from
+  double divergenceWarmShare = 0;  ///< the same for the divergence solve
+  double densityWallPush = 0;      ///< wall samples' weight in the constant-density solve
+  double freeSurfaceFraction = 0;  ///< below this share of a full neighbourhood: no divergence estimate
+  double fallFactor = 0;           ///< CFL mode: |a|max dt^2 <= fallFactor * spacing
+};
+
+struct SolverSettings {
+  Solver method = Solver::WCSPH;
+  double kernelSupport = 0;  ///< kernel support radius h as a multiple of the particle spacing
+  /// Numerical speed of sound (m/s): WCSPH's Tait EOS and acoustic limit, and the c of Monaghan's
+  /// artificial viscosity under either solver.
+  double speedOfSound = 0;
+  WcsphSettings wcsph;
+  DfsphSettings dfsph;
 };
 
 struct TimeSettings {
@@ -83,8 +101,6 @@ struct TimeSettings {
   double dt = 0;  ///< fixed mode
   double cflFactor = 0;
   double viscousFactor = 0;
-  double forceFactor = 0;
-  double fallFactor = 0;  ///< DFSPH: |a|max dt^2 <= fallFactor * spacing
   double dtMin = 0;
   double dtMax = 0;
 };
@@ -115,12 +131,21 @@ struct CacheSettings {
   std::vector<CacheAttribute> attributes;
 };
 
+/// The anisotropic method's own parameters (surface.anisotropic; Yu & Turk 2013).
+struct AnisotropicSurfaceSettings {
+  double lambda = 0;          ///< Laplacian smoothing of the kernel centres
+  double maxStretch = 0;      ///< k_r: largest ratio between a kernel's axes
+  int isolatedBelow = 0;      ///< N_eps: fewer neighbours give a small isotropic kernel
+  double isolatedScale = 0;   ///< k_n: that kernel's support relative to the full one
+};
+
 struct SurfaceSettings {
   SurfaceMethod method = SurfaceMethod::ZhuBridson;
   double voxelFactor = 0;   ///< voxel size as a multiple of the particle spacing
   double radiusFactor = 0;  ///< particle radius as a multiple of the particle spacing
   int smoothIterations = 0;
   double adaptivity = 0;
+  AnisotropicSurfaceSettings anisotropic;
 };
 
 struct CameraKey {
@@ -174,11 +199,23 @@ const schema::Object<Scene>& sceneSchema();
 
 /// Applies one "--set path=value" override to raw scene JSON. The path is dotted
 /// ("fluid.viscosity", "fluid.blocks.0.min"); the value is parsed as JSON, or taken as a string if it is
-/// not valid JSON ("solver.method=dfsph"). Missing objects on the way are created.
+/// not valid JSON ("solver.method=dfsph"). Missing objects on the way are created. Keys that moved
+/// (migrateSceneJson) are moved first, in `raw` and in the path. Setting a method (solver.method,
+/// surface.method) to another one drops the parameter groups of the other methods from `raw`, since
+/// nothing would read them (and an unread parameter is an error): `--set solver.method=dfsph` on a WCSPH
+/// scene runs it with DFSPH's defaults.
 /// @throws InputError if the text has no '=' or the path runs through a non-object value.
 void applyOverride(schema::Json& raw, const std::string& assignment);
 
-/// Validates raw scene JSON and returns the scene. `source` names the input in error messages.
+/// Moves keys of older scene files to where they are declared now (solver.eos -> solver.wcsph.eos,
+/// solver.max_iterations -> solver.dfsph.max_iterations, time.fall_factor -> solver.dfsph.fall_factor,
+/// ...), logging a warning for each. `source` names the input in the warnings.
+/// @throws InputError "SOURCE: /json/path: ..." if a key is given both at its old and its new place.
+void migrateSceneJson(schema::Json& raw, const std::string& source);
+
+/// Validates raw scene JSON (after migrateSceneJson) and returns the scene. `source` names the input in
+/// error messages. A parameter that the scene's choices leave unread (a DFSPH parameter under WCSPH,
+/// time.dt in CFL mode, fluid.viscosity with the artificial model) is an error.
 /// @throws InputError "SOURCE: /json/path: what was expected, got what".
 Scene parseScene(const schema::Json& raw, const std::string& source);
 

@@ -291,11 +291,14 @@ class Object {
     return *this;
   }
 
-  /// Makes the field declared last apply only when `applies` holds (e.g. "radius" for spheres): the
-  /// resolved JSON leaves it out otherwise.
+  /// Makes the field declared last apply only when `applies` holds (e.g. "radius" for spheres, a
+  /// method's parameter group for that method): the resolved JSON leaves it out otherwise, and a value
+  /// the input gives for it is an error, since nothing reads it. `note` ends its description in the
+  /// docs, in parentheses ("box", "only when solver.method is \"dfsph\"").
   Object& onlyWhen(std::function<bool(const S&)> applies, std::string note) {
     fields_.back().applies = std::move(applies);
     fields_.back().doc.description += " (" + note + ")";
+    fields_.back().note = std::move(note);
     return *this;
   }
 
@@ -333,6 +336,9 @@ class Object {
         f.read(*it, childPath(path, f.name), out);
     }
     for (const Check& c : checks_) c(out, j, path);
+    for (const Field& f : fields_)
+      if (f.applies && !f.applies(out) && j.contains(f.name))
+        throw SchemaError(childPath(path, f.name), "not read with these settings (" + f.note + "); remove it");
   }
 
   /// The resolved JSON: every field, defaults filled in.
@@ -362,6 +368,7 @@ class Object {
     std::function<void(const S&, Json&)> write;
     std::function<void(const std::string&, std::vector<FieldDoc>&)> document;
     std::function<bool(const S&)> applies;  ///< empty: always
+    std::string note;                       ///< when it applies (onlyWhen)
   };
 
   static Field makeField(const std::string& name, std::string type, std::string def, std::string unit,

@@ -4,16 +4,25 @@
 /// thread behind a bounded queue (the GPU does not wait on disk), restart files for --resume, the
 /// manifest's "simulate" section and a progress line.
 
+#include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "sphfx/core/frame_files.h"
-#include "sphfx/core/gl_context.h"
 #include "sphfx/core/scene.h"
-#include "sphfx/sim/simulator.h"
 
 namespace sphfx::sim {
+
+/// What one simulated frame took.
+struct FrameStats {
+  int frame = 0;
+  int substeps = 0;
+  double dtMin = 0, dtMean = 0, dtMax = 0;
+  double wallSeconds = 0;
+  std::vector<std::pair<std::string, double>> solverStats;  ///< the pressure solver's, name and value
+};
 
 struct SimulationOptions {
   std::string shotDir;

@@ -34,6 +34,7 @@ struct SurfaceParams {
   bool calibrate = true;     ///< apply surfaceOffset (see calibrateOffset())
   double surfaceOffset = 0;  ///< erosion (m) applied after smoothing, from calibrateOffset()
   double halfWidth = 3;      ///< narrow band half width in voxels
+  AnisotropicSurfaceSettings anisotropic;  ///< the anisotropic method's kernel parameters
 };
 
 /// Values the user gave on the command line; they win over the scene's (and its defaults).
@@ -45,11 +46,11 @@ struct SurfaceOverrides {
   std::optional<double> adaptivity;
 };
 
-/// "spheres", "zhu-bridson", "anisotropic".
+/// The method's registry name (sphfx/core/methods.h).
 std::string methodName(SurfaceMethod method);
-/// The valid method names, for CLI help and checks.
+/// The registered method names, for CLI help and checks.
 std::vector<std::string> methodNames();
-/// @throws InputError for an unknown name (lists the valid ones).
+/// @throws InputError for a name the registry lacks (lists the valid ones).
 SurfaceMethod parseMethod(const std::string& name);
 
 /// Resolves parameters: `overrides` first, then `settings` (factors of `spacing`). Does not calibrate.

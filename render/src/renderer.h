@@ -11,8 +11,8 @@
 
 #include "sphfx/core/mesh_io.h"
 #include "sphfx/core/scene.h"
-#include "sphfx/render/camera.h"
-#include "sphfx/render/image_io.h"
+#include "camera.h"
+#include "image_io.h"
 
 namespace sphfx::render {
 

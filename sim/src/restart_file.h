@@ -11,7 +11,7 @@
 #include <string>
 
 #include "sphfx/core/scene.h"
-#include "sphfx/sim/simulator.h"
+#include "simulator.h"
 
 namespace sphfx::sim {
 

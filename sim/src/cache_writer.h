@@ -14,7 +14,7 @@
 #include <thread>
 
 #include "sphfx/core/particle_cache.h"
-#include "sphfx/sim/simulator.h"
+#include "simulator.h"
 
 namespace sphfx::sim {
 

@@ -5,7 +5,7 @@
 
 #include <vector>
 
-#include "sphfx/core/gpu_layout.h"
+#include "sphfx/gpu/gpu_layout.h"
 
 namespace sphfx::render {
 

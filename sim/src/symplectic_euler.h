@@ -5,9 +5,9 @@
 /// integration with the last-resort wall and collider projection.
 
 #include "sphfx/core/scene.h"
-#include "sphfx/core/shader_program.h"
-#include "sphfx/sim/dispatch_gate.h"
-#include "sphfx/sim/pass_timer.h"
+#include "sphfx/gpu/shader_program.h"
+#include "dispatch_gate.h"
+#include "pass_timer.h"
 
 namespace sphfx::sim {
 

@@ -1,12 +1,12 @@
-#include "sphfx/core/gpu_buffer.h"
+#include "sphfx/gpu/gpu_buffer.h"
 
 #include <fmt/format.h>
 
 #include <utility>
 
 #include "sphfx/core/error.h"
-#include "sphfx/core/gl.h"
-#include "sphfx/core/gl_context.h"
+#include "sphfx/gpu/gl.h"
+#include "sphfx/gpu/gl_context.h"
 
 namespace sphfx {
 

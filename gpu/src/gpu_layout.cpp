@@ -1,4 +1,4 @@
-#include "sphfx/core/gpu_layout.h"
+#include "sphfx/gpu/gpu_layout.h"
 
 namespace sphfx {
 

@@ -1,4 +1,4 @@
-#include "sphfx/core/gl_context.h"
+#include "sphfx/gpu/gl_context.h"
 
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
@@ -9,7 +9,7 @@
 #include <cstring>
 
 #include "sphfx/core/error.h"
-#include "sphfx/core/gl.h"
+#include "sphfx/gpu/gl.h"
 #include "sphfx/core/log.h"
 
 namespace sphfx {

@@ -6,8 +6,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "sphfx/core/gpu_buffer.h"
-#include "sphfx/core/shader_program.h"
+#include "sphfx/gpu/gpu_buffer.h"
+#include "sphfx/gpu/shader_program.h"
 
 namespace sphfx::sim {
 

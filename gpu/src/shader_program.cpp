@@ -1,4 +1,4 @@
-#include "sphfx/core/shader_program.h"
+#include "sphfx/gpu/shader_program.h"
 
 #include <fmt/format.h>
 
@@ -8,16 +8,19 @@
 #include <sstream>
 
 #include "sphfx/core/error.h"
-#include "sphfx/core/gl.h"
-#include "sphfx/core/gl_context.h"
-#include "sphfx/core/shader_sources.h"
+#include "sphfx/gpu/gl.h"
+#include "sphfx/gpu/gl_context.h"
+#include "sphfx/gpu/shader_sources.h"
 
 namespace sphfx {
 
-std::string_view shaderSource(std::string_view name) {
-  for (const auto& s : embeddedShaderTable())
-    if (s.name == name) return s.source;
-  throw GLError(fmt::format("shader file \"{}\" is not embedded (is it under shaders/?)", name));
+std::string_view shaderSource(const ShaderTable& stage, std::string_view name) {
+  for (const ShaderTable* table : {&stage, &gpuShaderTable()})
+    for (const auto& s : *table)
+      if (s.name == name) return s.source;
+  throw GLError(fmt::format("shader file \"{}\" is not embedded by this stage (is it under shaders/ with the "
+                            "stage's prefix?)",
+                            name));
 }
 
 ShaderDefines& ShaderDefines::set(const std::string& name, const std::string& value) {
@@ -48,8 +51,8 @@ constexpr const char* kVersionLine = "#version 430 core\n";
 constexpr const char* kSharedIncludes[] = {"bindings.h", "common.glsl"};
 
 /// Appends `file` with its `#include "x"` lines replaced by the files' text (each file once).
-void appendFile(const std::string& file, AssembledShader& out, std::set<std::string>& included,
-                std::vector<std::string>& stack) {
+void appendFile(const ShaderTable& stage, const std::string& file, AssembledShader& out,
+                std::set<std::string>& included, std::vector<std::string>& stack) {
   if (std::find(stack.begin(), stack.end(), file) != stack.end())
     throw GLError("shader include cycle through \"" + file + "\"");
   if (!included.insert(file).second) return;
@@ -57,7 +60,7 @@ void appendFile(const std::string& file, AssembledShader& out, std::set<std::str
   out.files.push_back(file);
   const int sourceNumber = int(out.files.size());
   out.text += fmt::format("#line 1 {}\n", sourceNumber);
-  std::istringstream in{std::string(shaderSource(file))};
+  std::istringstream in{std::string(shaderSource(stage, file))};
   std::string line;
   int lineNumber = 0;
   while (std::getline(in, line)) {
@@ -67,7 +70,7 @@ void appendFile(const std::string& file, AssembledShader& out, std::set<std::str
       const auto open = line.find('"'), close = line.rfind('"');
       if (open == std::string::npos || close <= open)
         throw GLError(fmt::format("{}:{}: malformed #include", file, lineNumber));
-      appendFile(line.substr(open + 1, close - open - 1), out, included, stack);
+      appendFile(stage, line.substr(open + 1, close - open - 1), out, included, stack);
       out.text += fmt::format("#line {} {}\n", lineNumber + 1, sourceNumber);
       continue;
     }
@@ -121,14 +124,15 @@ GLuint link(const std::vector<GLuint>& shaders, const std::string& what) {
 
 }  // namespace
 
-AssembledShader assembleShader(const std::string& stageFile, const ShaderDefines& defines) {
+AssembledShader assembleShader(const ShaderTable& stage, const std::string& stageFile,
+                               const ShaderDefines& defines) {
   AssembledShader out;
   out.text = kVersionLine;
   out.text += defines.text();
   std::set<std::string> included;
   std::vector<std::string> stack;
-  for (const char* shared : kSharedIncludes) appendFile(shared, out, included, stack);
-  appendFile(stageFile, out, included, stack);
+  for (const char* shared : kSharedIncludes) appendFile(gpuShaderTable(), shared, out, included, stack);
+  appendFile(stage, stageFile, out, included, stack);
   return out;
 }
 
@@ -147,17 +151,18 @@ ShaderProgram& ShaderProgram::operator=(ShaderProgram&& other) noexcept {
   return *this;
 }
 
-ShaderProgram ShaderProgram::compute(const std::string& stageFile, const ShaderDefines& defines) {
-  const AssembledShader src = assembleShader(stageFile, defines);
+ShaderProgram ShaderProgram::compute(const ShaderTable& stage, const std::string& stageFile,
+                                     const ShaderDefines& defines) {
+  const AssembledShader src = assembleShader(stage, stageFile, defines);
   return ShaderProgram(link({compileStage(GL_COMPUTE_SHADER, src, stageFile)}, stageFile));
 }
 
-ShaderProgram ShaderProgram::graphics(const std::string& vertexFile, const std::string& fragmentFile,
-                                      const ShaderDefines& defines) {
-  const GLuint vs = compileStage(GL_VERTEX_SHADER, assembleShader(vertexFile, defines), vertexFile);
+ShaderProgram ShaderProgram::graphics(const ShaderTable& stage, const std::string& vertexFile,
+                                      const std::string& fragmentFile, const ShaderDefines& defines) {
+  const GLuint vs = compileStage(GL_VERTEX_SHADER, assembleShader(stage, vertexFile, defines), vertexFile);
   GLuint fs = 0;
   try {
-    fs = compileStage(GL_FRAGMENT_SHADER, assembleShader(fragmentFile, defines), fragmentFile);
+    fs = compileStage(GL_FRAGMENT_SHADER, assembleShader(stage, fragmentFile, defines), fragmentFile);
   } catch (...) {
     glDeleteShader(vs);
     throw;

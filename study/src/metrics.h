@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "sphfx/core/particle_cache.h"
-#include "sphfx/study/references.h"
+#include "references.h"
 
 namespace sphfx::study {
 

@@ -11,17 +11,18 @@
 #include <string>
 #include <vector>
 
-#include "sphfx/core/gpu_buffer.h"
+#include "sphfx/gpu/gpu_buffer.h"
 #include "sphfx/core/particle_cache.h"
 #include "sphfx/core/scene.h"
-#include "sphfx/sim/boundary_akinci2012.h"
-#include "sphfx/sim/dfsph_solver.h"
-#include "sphfx/sim/dispatch_gate.h"
-#include "sphfx/sim/gpu_types.h"
-#include "sphfx/sim/neighbor_grid.h"
-#include "sphfx/sim/pass_timer.h"
-#include "sphfx/sim/symplectic_euler.h"
-#include "sphfx/sim/wcsph_solver.h"
+#include "sphfx/sim/simulation.h"
+#include "boundary_akinci2012.h"
+#include "dfsph_solver.h"
+#include "dispatch_gate.h"
+#include "gpu_types.h"
+#include "neighbor_grid.h"
+#include "pass_timer.h"
+#include "symplectic_euler.h"
+#include "wcsph_solver.h"
 
 namespace sphfx::sim {
 
@@ -31,14 +32,6 @@ struct SimulatorState {
   int frame = 0;
   std::vector<std::array<float, 4>> position;
   std::vector<std::array<float, 4>> velocity;
-};
-
-struct FrameStats {
-  int frame = 0;
-  int substeps = 0;
-  double dtMin = 0, dtMean = 0, dtMax = 0;
-  double wallSeconds = 0;
-  std::vector<std::pair<std::string, double>> solverStats;  ///< PressureSolver::frameStats()
 };
 
 /// Builds the pressure solver the scene names. @throws InputError for a solver this build lacks.

@@ -1,4 +1,4 @@
-#include "sphfx/core/selftest.h"
+#include "sphfx/gpu/selftest.h"
 
 #include <fmt/format.h>
 
@@ -6,15 +6,15 @@
 #include <bit>
 #include <cmath>
 
-#include "sphfx/core/gl.h"
-#include "sphfx/core/gpu_buffer.h"
-#include "sphfx/core/gpu_layout.h"
-#include "sphfx/core/shader_program.h"
+#include "sphfx/gpu/gl.h"
+#include "sphfx/gpu/gpu_buffer.h"
+#include "sphfx/gpu/gpu_layout.h"
+#include "sphfx/gpu/shader_program.h"
 
 namespace sphfx {
 
 ComputeSelfTestResult runComputeSelfTest(const std::vector<float>& input, float scale, float offset) {
-  const ShaderProgram program = ShaderProgram::compute("selftest.comp");
+  const ShaderProgram program = ShaderProgram::compute(gpuShaderTable(), "selftest.comp");
   SelfTestParams params{};
   params.scale = scale;
   params.count = uint32_t(input.size());

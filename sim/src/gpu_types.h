@@ -7,9 +7,9 @@
 #include <cstdint>
 #include <vector>
 
-#include "sphfx/core/gpu_layout.h"
+#include "sphfx/gpu/gpu_layout.h"
 #include "sphfx/core/scene.h"
-#include "sphfx/core/shader_program.h"
+#include "sphfx/gpu/shader_program.h"
 
 namespace sphfx::sim {
 

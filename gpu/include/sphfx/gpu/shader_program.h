@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "sphfx/gpu/shader_sources.h"
+
 namespace sphfx {
 
 /// Per-scene feature switches and constants prepended to every program. Ordered, so the assembled
@@ -32,9 +34,11 @@ struct AssembledShader {
   std::vector<std::string> files;  ///< files[i] is source string number i + 1
 };
 
-/// Assembles a stage file. Pure text work, no GL needed.
+/// Assembles `stageFile` from `stage`'s embedded sources (shared includes from gpuShaderTable()). Pure
+/// text work, no GL needed.
 /// @throws GLError for a missing file or an include cycle.
-AssembledShader assembleShader(const std::string& stageFile, const ShaderDefines& defines);
+AssembledShader assembleShader(const ShaderTable& stage, const std::string& stageFile,
+                               const ShaderDefines& defines);
 
 /// A linked GL program (owns the GL name). Needs a current context.
 class ShaderProgram {
@@ -46,12 +50,13 @@ class ShaderProgram {
   ShaderProgram(const ShaderProgram&) = delete;
   ShaderProgram& operator=(const ShaderProgram&) = delete;
 
-  /// Builds a compute program from `stageFile` (e.g. "density.comp").
+  /// Builds a compute program from `stageFile` (e.g. "sim_density.comp") of `stage`'s sources.
   /// @throws GLError with the compiler log, lines mapped back to file names.
-  static ShaderProgram compute(const std::string& stageFile, const ShaderDefines& defines = {});
+  static ShaderProgram compute(const ShaderTable& stage, const std::string& stageFile,
+                               const ShaderDefines& defines = {});
   /// Builds a vertex + fragment program. @throws GLError as compute().
-  static ShaderProgram graphics(const std::string& vertexFile, const std::string& fragmentFile,
-                                const ShaderDefines& defines = {});
+  static ShaderProgram graphics(const ShaderTable& stage, const std::string& vertexFile,
+                                const std::string& fragmentFile, const ShaderDefines& defines = {});
 
   uint32_t id() const { return id_; }
   void use() const;

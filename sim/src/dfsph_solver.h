@@ -20,12 +20,12 @@
 #include <utility>
 #include <vector>
 
-#include "sphfx/core/gpu_buffer.h"
+#include "sphfx/gpu/gpu_buffer.h"
 #include "sphfx/core/scene.h"
-#include "sphfx/core/shader_program.h"
-#include "sphfx/sim/dispatch_gate.h"
-#include "sphfx/sim/pass_timer.h"
-#include "sphfx/sim/wcsph_solver.h"
+#include "sphfx/gpu/shader_program.h"
+#include "dispatch_gate.h"
+#include "pass_timer.h"
+#include "wcsph_solver.h"
 
 namespace sphfx::sim {
 
@@ -91,17 +91,6 @@ class DFSPHSolver : public PressureSolver {
 
   /// The CPU looks at the GPU's convergence flag after this many queued iterations.
   static constexpr int kCheckEvery = 3;
-  /// Relaxation of the projected Jacobi updates: stiffness totals move up and down (clamped at 0), which
-  /// diverges at 1 on the dam break, and at 0.65 from rest; 0.5 as IISPH's relaxed Jacobi. The iterations
-  /// are accelerated by momentum instead (solver.jacobi_momentum, docs/dfsph.md "Momentum"). (The one-sided
-  /// update of SPlisHSPlasH, which only adds, converges at 1 but sent the dam-break front 77 % off with our
-  /// spiky-gradient operator; docs/dfsph.md.)
-  static constexpr double kJacobiOmega = 0.5;
-  /// Shares of the last substep's stiffness totals the solves start from (warm start). The full totals
-  /// re-apply a stale impulse every step: at the divergence tolerance 1e-3 the resting tank then never
-  /// settles (0.44-0.62 m/s, pressure 3x hydrostatic); SPlisHSPlasH starts from half. The density solve
-  /// keeps 0.8: at 0.5 it needs 9.3 instead of 5.4 iterations on the dam break, at 1 the tank jitters.
-  static constexpr double kDivergenceWarmShare = 0.5, kDensityWarmShare = 0.8;
 
  private:
   struct Solve {
@@ -118,9 +107,10 @@ class DFSPHSolver : public PressureSolver {
   bool open() const;
 
   const DispatchGate* gate_;
+  /// solver.dfsph: tolerances, iteration limits, relaxation, momentum and warm-start shares (each
+  /// compiled into the programs as a #define).
+  DfsphSettings settings_;
   uint32_t particles_, groups_;
-  int minIterations_, minDivergenceIterations_, maxIterations_;
-  float momentum_;
   int listSlots_;
   GpuBuffer particle_, increment_, warm_, partial_, control_, neighbors_, boundary_, count_;
   ShaderProgram factor_, nonPressure_;

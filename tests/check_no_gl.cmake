@@ -1,0 +1,15 @@
+# The listed binaries need no GL library: CPU-only code (the core, the surfacing stage) links none.
+#   -DFILES=a;b
+foreach(f IN LISTS FILES)
+  execute_process(COMMAND readelf -d "${f}" RESULT_VARIABLE code OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT code EQUAL 0)
+    message(FATAL_ERROR "readelf -d ${f} failed (${code}): ${err}")
+  endif()
+  if(NOT out MATCHES "NEEDED")
+    message(FATAL_ERROR "readelf -d ${f} lists no NEEDED library: cannot judge")
+  endif()
+  string(REGEX MATCHALL "\\[lib(EGL|GL|GLX|OpenGL|OSMesa)[^]]*\\]" gl "${out}")
+  if(gl)
+    message(FATAL_ERROR "${f} links GL: ${gl}")
+  endif()
+endforeach()
