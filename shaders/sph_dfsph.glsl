@@ -3,7 +3,6 @@
 // Stiffness values are stored dt-free as kappa_i / rho_i: the density solver's total is p / rho^2 (the
 // pressure acceleration is -m sum (P_i + P_j) grad W), the divergence solver's total changes velocities
 // by -m sum (K_i + K_j) grad W. Both are independent of the time step, so they warm-start the next step.
-#include "sph_dfsph_bindings.glsl"
 #include "sph_textures.glsl"
 
 // x: the constant-density solve's factor alpha_i / rho_i, 1 / (g . (g + (c - 1) sum_b psi_b grad W_ib) +

@@ -8,7 +8,6 @@
 #include <numbers>
 
 #include "bindings.h"
-#include "sph_dfsph_bindings.glsl"
 #include "sphfx/core/error.h"
 #include "sphfx/core/gl.h"
 #include "sphfx/core/gl_context.h"
