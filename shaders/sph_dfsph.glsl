@@ -1,4 +1,7 @@
 // DFSPH (Bender & Koschier 2015/2017) data shared by the sim_dfsph_*.comp passes. Needs sph_params.glsl.
+#if defined(SIM_PERIODIC_X) || defined(SIM_PERIODIC_Z)
+#error "the DFSPH passes have no periodic boundaries (scenes with both are rejected)"
+#endif
 //
 // Stiffness values are stored dt-free as kappa_i / rho_i: the density solver's total is p / rho^2 (the
 // pressure acceleration is -m sum (P_i + P_j) grad W), the divergence solver's total changes velocities
