@@ -2,7 +2,7 @@
 // sprites): the colour ramp, the camera ray through a pixel, the ray-sphere hit with its true depth, and
 // the shading. Needs render_params.glsl first.
 
-// Height: dark navy at the bottom of the domain to bright blue at the top (the seed's look).
+// Height: dark navy at the bottom of the domain to bright blue at the top.
 // Speed: deep blue at rest, through cyan, to white at the speed scale.
 vec3 impostorRamp(float height, float speed) {
   if (renderRamp.w < 0.5) {

@@ -1,4 +1,4 @@
-/* Binding points of the simulation stage (shader storage 0-15, uniform block SPHFX_UBO_SIM_PARAMS).
+/* Binding points of the simulation stage (shader storage 0-23, uniform block SPHFX_UBO_SIM_PARAMS).
  * Preprocessor-only; included by bindings.h. C++ mirrors: sim/include/sphfx/sim/gpu_types.h. */
 #ifndef SPHFX_SIM_BINDINGS_H
 #define SPHFX_SIM_BINDINGS_H
@@ -22,6 +22,16 @@
 #define SPHFX_SSBO_SIM_DISPATCH 15 /* indirect dispatch arguments, then their live values */
 #define SPHFX_SSBO_SIM_NEIGHBORS 16 /* WCSPH: neighbours found by sim_density, used by sim_force */
 
+/* DFSPH passes (sim_dfsph_*.comp; 16 is free there: no DFSPH program uses SPHFX_SSBO_SIM_NEIGHBORS) */
+#define SPHFX_SSBO_SIM_DFSPH_PARTICLE 16  /* vec4 per sorted particle: factor, neighbours, stiffness totals */
+#define SPHFX_SSBO_SIM_DFSPH_INCREMENT 17 /* float per sorted particle: an iteration's stiffness increment */
+#define SPHFX_SSBO_SIM_DFSPH_WARM 18      /* float per particle id: last divergence stiffness (warm start) */
+#define SPHFX_SSBO_SIM_DFSPH_PARTIAL 19   /* float per work group: residual sums of one iteration */
+#define SPHFX_SSBO_SIM_DFSPH_CONTROL 20   /* DfsphControl: iteration state, statistics, indirect arguments */
+#define SPHFX_SSBO_SIM_DFSPH_NEIGHBORS 21 /* vec4 per (slot, sorted particle): m grad W_ij, j bits */
+#define SPHFX_SSBO_SIM_DFSPH_BOUNDARY 22  /* vec4 per sorted particle: sum psi grad W, sum psi v_b . grad W */
+#define SPHFX_SSBO_SIM_DFSPH_COUNT 23     /* uint per sorted particle: fluid neighbours in the list */
+
 /* Texture units (buffer textures, read-only views of the buffers above, sph_textures.glsl): neighbour
  * loops fetch through these. */
 #define SPHFX_TEX_SIM_POS 0 /* RGBA32F view of SPHFX_SSBO_SIM_POS */
@@ -31,14 +41,18 @@
 #define SPHFX_TEX_SIM_BOUNDARY_POS 4 /* RGBA32F, SPHFX_SSBO_SIM_BOUNDARY_POS */
 #define SPHFX_TEX_SIM_BOUNDARY_VEL 5 /* RGBA32F, SPHFX_SSBO_SIM_BOUNDARY_VEL */
 #define SPHFX_TEX_SIM_BOUNDARY_CELL_START 6 /* R32UI, SPHFX_SSBO_SIM_BOUNDARY_CELL_START */
-#define SPHFX_TEX_SIM_DFSPH_NEIGHBORS 7 /* RGBA32F, the DFSPH neighbour lists (sph_dfsph_bindings.glsl) */
-#define SPHFX_TEX_SIM_DFSPH_INCREMENT 8 /* R32F, the DFSPH stiffness increments */
+#define SPHFX_TEX_SIM_DFSPH_NEIGHBORS 7 /* RGBA32F, SPHFX_SSBO_SIM_DFSPH_NEIGHBORS */
+#define SPHFX_TEX_SIM_DFSPH_INCREMENT 8 /* R32F, SPHFX_SSBO_SIM_DFSPH_INCREMENT */
 #define SPHFX_TEX_SIM_DFSPH_PARTICLE 9 /* RGBA32F, the DFSPH per-particle factor, count and totals */
 #define SPHFX_TEX_SIM_DFSPH_COUNT 10 /* R32UI, the DFSPH neighbour counts */
 #define SPHFX_TEX_SIM_DFSPH_BOUNDARY 11 /* RGBA32F, the DFSPH boundary sums */
 
-/* Grid construction programs (sim_grid_*.comp, sim_scan_*.comp): source/destination use 0-3, the
- * cell counts/starts 7. */
+/* Grid construction programs (sim_grid_*.comp, sim_scan_*.comp), for the fluid and the boundary samples:
+ * the items to sort (source) and their sorted copies (destination), the cell counts/starts at 7. */
+#define SPHFX_SSBO_SIM_GRID_SRC_POS 0
+#define SPHFX_SSBO_SIM_GRID_SRC_VEL 1
+#define SPHFX_SSBO_SIM_GRID_DST_POS 2
+#define SPHFX_SSBO_SIM_GRID_DST_VEL 3
 #define SPHFX_SSBO_SIM_GRID_CELL_RANK 8
 #define SPHFX_SSBO_SIM_GRID_SORTED 9
 #define SPHFX_SSBO_SIM_SCAN_DATA 10

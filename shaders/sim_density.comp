@@ -1,7 +1,9 @@
 // WCSPH pass 1: density (poly6) from fluid neighbours and Akinci 2012 boundary samples (psi W), then
 // pressure from the equation of state. Also reduces the largest density for the health check.
 #include "sph_params.glsl"
-#include "sph_kernels.glsl"
+#define SPH_FLUID_START(c) cellStart[c]
+#define SPH_BOUNDARY_START(c) bStart[c]
+#include "sph_neighbors.glsl"
 layout(local_size_x = SIM_WG) in;
 layout(std430, binding = SPHFX_SSBO_SIM_POS) readonly buffer SimPos { vec4 pos[]; };
 layout(std430, binding = SPHFX_SSBO_SIM_CELL_START) readonly buffer SimCellStart { uint cellStart[]; };
@@ -14,7 +16,8 @@ layout(std430, binding = SPHFX_SSBO_SIM_DENSITY) writeonly buffer SimDensity { v
 // Which candidates are within h, for the force pass (which otherwise tests ~7x more candidates than it
 // uses): per row of cells (9 rows), a bit mask over the row's first 32 sorted slots, fluid in words 0-8
 // (without i itself), boundary samples in words 9-17. Word k of particle i is at k * N + i, so adjacent
-// invocations write adjacent words, once per row. sim_force tests slots past the 32nd itself.
+// invocations write adjacent words, once per row the kernel reaches (sim_force.comp reads no other).
+// sim_force tests slots past the 32nd and the cell across a periodic seam itself.
 layout(std430, binding = SPHFX_SSBO_SIM_NEIGHBORS) writeonly buffer SimNeighbors { uint neighbors[]; };
 #endif
 shared uint groupMaxDensity;
@@ -26,54 +29,36 @@ void main() {
   barrier();
   if (live) {
     vec3 xi = pos[i].xyz;
-    ivec3 cell = sphCell(xi);
     float fluid = 0.0, wall = 0.0;
 #if defined(SIM_NEIGHBOR_MASKS)
-    uint n = simCounts.x, row = 0u;
+    uint n = simCounts.x;
 #endif
-    for (int dz = -1; dz <= 1; ++dz)
-      for (int dy = -1; dy <= 1; ++dy) {
-        uint first, last, fluidMask = 0u, wallMask = 0u;
-        if (sphRow(xi, cell, dy, dz, first, last)) {
-          uint f0 = cellStart[first], b0 = bStart[first];
-          for (uint j = f0, e = cellStart[last]; j < e; ++j) {
-            vec3 d = sphDelta(xi, pos[j].xyz);
-            float r2 = dot(d, d);
-            fluid += sphPoly6(r2);
+    SPH_FOR_EACH_CELL_RANGE_SEAM_LAST(xi, row, seam, first, last)
+      uint f0 = cellStart[first], b0 = bStart[first], fluidMask = 0u, wallMask = 0u;
+      SPH_FOR_EACH_FLUID(j, first, last) {
+        vec3 d = sphDelta(xi, pos[j].xyz);
+        float r2 = dot(d, d);
+        fluid += sphPoly6(r2);
 #if defined(SIM_NEIGHBOR_MASKS)
-            if (r2 < simKernel.w && j != i && j - f0 < 32u) fluidMask |= 1u << (j - f0);
-#endif
-          }
-          for (uint j = b0, e = bStart[last]; j < e; ++j) {
-            vec4 b = bpos[j];
-            vec3 d = sphDelta(xi, b.xyz);
-            float r2 = dot(d, d);
-            wall += b.w * sphPoly6(r2);
-#if defined(SIM_NEIGHBOR_MASKS)
-            if (r2 < simKernel.w && j - b0 < 32u) wallMask |= 1u << (j - b0);
-#endif
-          }
-        }
-#if defined(SIM_PERIODIC_X)
-        // The cell across the seam: not in the masks (sim_force tests its candidates itself).
-        if (sphRowWrap(cell, dy, dz, first, last)) {
-          for (uint j = cellStart[first], e = cellStart[last]; j < e; ++j) {
-            vec3 d = sphDelta(xi, pos[j].xyz);
-            fluid += sphPoly6(dot(d, d));
-          }
-          for (uint j = bStart[first], e = bStart[last]; j < e; ++j) {
-            vec4 b = bpos[j];
-            vec3 d = sphDelta(xi, b.xyz);
-            wall += b.w * sphPoly6(dot(d, d));
-          }
-        }
-#endif
-#if defined(SIM_NEIGHBOR_MASKS)
-        neighbors[row * n + i] = fluidMask;
-        neighbors[(9u + row) * n + i] = wallMask;
-        ++row;
+        if (r2 < simKernel.w && j != i && j - f0 < 32u) fluidMask |= 1u << (j - f0);
 #endif
       }
+      SPH_FOR_EACH_BOUNDARY(j, first, last) {
+        vec4 b = bpos[j];
+        vec3 d = sphDelta(xi, b.xyz);
+        float r2 = dot(d, d);
+        wall += b.w * sphPoly6(r2);
+#if defined(SIM_NEIGHBOR_MASKS)
+        if (r2 < simKernel.w && j - b0 < 32u) wallMask |= 1u << (j - b0);
+#endif
+      }
+#if defined(SIM_NEIGHBOR_MASKS)
+      if (!seam) {
+        neighbors[row * n + i] = fluidMask;
+        neighbors[(9u + row) * n + i] = wallMask;
+      }
+#endif
+    SPH_END_FOR_EACH_CELL_RANGE
     float rho = simGravity.w * fluid + wall;
     densityPressure[i] = vec2(rho, sphPressure(rho) / (rho * rho));
     atomicMax(groupMaxDensity, floatBitsToUint(rho));  // positive floats order as their bits; NaN is largest

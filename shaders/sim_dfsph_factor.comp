@@ -9,7 +9,7 @@
 // Reduces the largest density (health).
 #define DFSPH_LIST_WRITE
 #include "sph_params.glsl"
-#include "sph_kernels.glsl"
+#include "sph_neighbors.glsl"
 #include "sph_dfsph.glsl"
 layout(local_size_x = SIM_WG) in;
 layout(std430, binding = SPHFX_SSBO_SIM_DENSITY) writeonly buffer SimDensity { vec2 densityPressure[]; };
@@ -23,47 +23,42 @@ void main() {
   barrier();
   if (live) {
     vec3 xi = sphFetchPos(i).xyz;
-    ivec3 cell = sphCell(xi);
     uint n = simCounts.x, listed = 0u;
     float m = simGravity.w, fluid = 0.0, wall = 0.0, squares = 0.0, boundaryNeighbours = 0.0;
     float boundaryW = 0.0;  // dfBoundary.w (sph_dfsph.glsl)
     vec3 gradSum = vec3(0.0), wallGrad = vec3(0.0), hydrostatic = vec3(0.0);
-    for (int dz = -1; dz <= 1; ++dz)
-      for (int dy = -1; dy <= 1; ++dy) {
-        uint first, last;
-        if (!sphRow(xi, cell, dy, dz, first, last)) continue;
-        // No branch per candidate: the kernels are 0 beyond h (and the gradient at r = 0), and every
-        // candidate is written to the next free slot, which only a neighbour advances (the slot after
-        // the last neighbour holds a stale candidate; the list has one spare slot for it). On llvmpipe a
-        // candidate test that branched per lane cost more than the arithmetic and stores it skipped:
-        // whether a candidate is a neighbour is unpredictable (docs/dfsph.md, "Texel fetches").
-        for (uint j = sphFetchCellStart(first), e = sphFetchCellStart(last); j < e; ++j) {
-          vec3 d = xi - sphFetchPos(j).xyz;
-          float r2 = dot(d, d);
-          fluid += sphPoly6(r2);
-          vec3 g = m * dfsphGrad(d);
-          gradSum += g;
-          squares += dot(g, g);
-          dfNbr[min(listed, uint(DFSPH_MAX_NEIGHBORS)) * n + i] = vec4(g, uintBitsToFloat(j));
-          listed += (r2 < simKernel.w && j != i) ? 1u : 0u;
-        }
-        for (uint j = sphFetchBoundaryCellStart(first), e = sphFetchBoundaryCellStart(last); j < e; ++j) {
-          vec4 b = sphFetchBoundaryPos(j);
-          vec3 d = xi - b.xyz;
-          float r2 = dot(d, d);
-          float psi = b.w * dfsphWallScale(b.xyz), r = sqrt(r2), q = max(simDomainMin.w - r, 0.0);
-          wall += psi * (-simKernel.y / 3.0) * q * q * q;  // spiky W = 15 / (pi h^6) (h - r)^3
-          vec3 g = psi * sphSpikyGrad(d, r);
-          wallGrad += g;
-          hydrostatic -= dot(simGravity.xyz, d) * g;  // g . (x_b - x_i) psi_b grad W_ib
-#if defined(HAS_COLLIDERS)
-          boundaryW += dot(sphFetchBoundaryVel(j).xyz, g);  // walls are at rest, colliders move
-#elif defined(DFSPH_WALL_LAPLACIAN_SUM)
-          boundaryW += b.w * sphViscosityLaplacian(sqrt(r2));
-#endif
-          boundaryNeighbours += r2 < simKernel.w ? 1.0 : 0.0;
-        }
+    // No branch per candidate: the kernels are 0 beyond h (and the gradient at r = 0), and every
+    // candidate is written to the next free slot, which only a neighbour advances (the slot after the
+    // last neighbour holds a stale candidate; the list has one spare slot for it). On llvmpipe a
+    // per-lane branch on whether a candidate is a neighbour (unpredictable) costs more than it skips.
+    SPH_FOR_EACH_CELL_RANGE(xi, row, seam, first, last)
+      SPH_FOR_EACH_FLUID(j, first, last) {
+        vec3 d = xi - sphFetchPos(j).xyz;
+        float r2 = dot(d, d);
+        fluid += sphPoly6(r2);
+        vec3 g = m * dfsphGrad(d);
+        gradSum += g;
+        squares += dot(g, g);
+        dfNbr[min(listed, uint(DFSPH_MAX_NEIGHBORS)) * n + i] = vec4(g, uintBitsToFloat(j));
+        listed += (r2 < simKernel.w && j != i) ? 1u : 0u;
       }
+      SPH_FOR_EACH_BOUNDARY(j, first, last) {
+        vec4 b = sphFetchBoundaryPos(j);
+        vec3 d = xi - b.xyz;
+        float r2 = dot(d, d);
+        float psi = b.w * dfsphWallScale(b.xyz), r = sqrt(r2), q = max(simDomainMin.w - r, 0.0);
+        wall += psi * (-simKernel.y / 3.0) * q * q * q;  // spiky W = 15 / (pi h^6) (h - r)^3
+        vec3 g = psi * sphSpikyGrad(d, r);
+        wallGrad += g;
+        hydrostatic -= dot(simGravity.xyz, d) * g;  // g . (x_b - x_i) psi_b grad W_ib
+#if defined(HAS_COLLIDERS)
+        boundaryW += dot(sphFetchBoundaryVel(j).xyz, g);  // walls are at rest, colliders move
+#elif defined(DFSPH_WALL_LAPLACIAN_SUM)
+        boundaryW += b.w * sphViscosityLaplacian(sqrt(r2));
+#endif
+        boundaryNeighbours += r2 < simKernel.w ? 1.0 : 0.0;
+      }
+    SPH_END_FOR_EACH_CELL_RANGE
     if (listed > uint(DFSPH_MAX_NEIGHBORS)) atomicOr(stateFailure, SIM_FAIL_NEIGHBORS);
     dfCount[i] = min(listed, uint(DFSPH_MAX_NEIGHBORS));
     dfBoundary[i] = vec4(wallGrad, boundaryW);

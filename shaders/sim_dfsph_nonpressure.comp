@@ -5,7 +5,7 @@
 // displacement-bounded CFL step (sim_timestep.comp).
 #define DFSPH_LIST_READ
 #include "sph_params.glsl"
-#include "sph_kernels.glsl"
+#include "sph_neighbors.glsl"
 #include "sph_dfsph.glsl"
 layout(local_size_x = SIM_WG) in;
 layout(std430, binding = SPHFX_SSBO_SIM_ACCEL) buffer SimAccel { vec4 accel[]; };
@@ -49,31 +49,27 @@ void viscosityAndWarmPressure(uint i, vec3 xi, vec3 vi, float rhoi, float pi, ou
 #if defined(DFSPH_WALL_LAPLACIAN_SUM)
   wall = -(simViscosity.x / rhoi * dfsphBoundary(i).w) * vi;
 #elif defined(VISCOSITY_ARTIFICIAL) || defined(VISCOSITY_LAPLACIAN)
-  ivec3 cell = sphCell(xi);
-  for (int dz = -1; dz <= 1; ++dz)
-    for (int dy = -1; dy <= 1; ++dy) {
-      uint first, last;
-      if (!sphRow(xi, cell, dy, dz, first, last)) continue;
-      for (uint j = sphFetchBoundaryCellStart(first), e = sphFetchBoundaryCellStart(last); j < e; ++j) {
-        vec4 b = sphFetchBoundaryPos(j);
-        vec3 d = xi - b.xyz;
-        float r2 = dot(d, d);
-        if (r2 >= simKernel.w) continue;
-        float r = sqrt(r2);
+  SPH_FOR_EACH_CELL_RANGE(xi, row, seam, first, last)
+    SPH_FOR_EACH_BOUNDARY(j, first, last) {
+      vec4 b = sphFetchBoundaryPos(j);
+      vec3 d = xi - b.xyz;
+      float r2 = dot(d, d);
+      if (r2 >= simKernel.w) continue;
+      float r = sqrt(r2);
 #if defined(HAS_COLLIDERS)
-        vec3 vb = sphFetchBoundaryVel(j).xyz;
+      vec3 vb = sphFetchBoundaryVel(j).xyz;
 #else
-        const vec3 vb = vec3(0.0);  // walls are at rest; only colliders move
+      const vec3 vb = vec3(0.0);  // walls are at rest; only colliders move
 #endif
 #if defined(VISCOSITY_ARTIFICIAL)
-        wall -= b.w * artificialViscosity(vi - vb, d, r2, 2.0 * rhoi) * sphSpikyGrad(d, r);
+      wall -= b.w * artificialViscosity(vi - vb, d, r2, 2.0 * rhoi) * sphSpikyGrad(d, r);
 #else
-        // As a fluid neighbour of mass psi_b and density rho_i at the wall's velocity (no slip), as in
-        // sim_force.comp.
-        wall += (b.w * simViscosity.x / rhoi * sphViscosityLaplacian(r)) * (vb - vi);
+      // As a fluid neighbour of mass psi_b and density rho_i at the wall's velocity (no slip), as in
+      // sim_force.comp.
+      wall += (b.w * simViscosity.x / rhoi * sphViscosityLaplacian(r)) * (vb - vi);
 #endif
-      }
     }
+  SPH_END_FOR_EACH_CELL_RANGE
 #endif
   visc = fluid + wall;
   pressure = push;

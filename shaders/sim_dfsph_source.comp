@@ -53,7 +53,7 @@ float densityChange(uint i) {
 // Projected Jacobi (the stiffness total stays >= 0, as pressure in IISPH): the signed residual moves the
 // total up or down; the increment is the change of the clamped total. The step adds the share uMomentum
 // of the particle's previous increment (heavy ball, Polyak 1964: the smooth, slowly converging modes of
-// a tall column keep their speed; docs/dfsph.md "Momentum"). Returns the increment; `error` is the
+// a tall column keep their speed). Returns the increment; `error` is the
 // residual where the constraint is active (compressed, or still carrying stiffness), else 0.
 float projectedIncrement(uint i, float residual, float scale, float total, out float error) {
   float step = DFSPH_OMEGA * residual * scale;

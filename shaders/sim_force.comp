@@ -1,10 +1,11 @@
 // WCSPH pass 2: accelerations. Symmetric pressure force with the spiky gradient, Akinci 2012 boundary
 // samples with the pressure extrapolated hydrostatically from the particle (Adami et al. 2012:
 // p_b = p_i + rho_i g . (x_b - x_i), rho_b = rho_i; plain mirroring p_b = p_i under-supports a resting
-// column by rho g |x_b - x_i| and lets it sink into the wall) and friction, viscosity (VISCOSITY_LAPLACIAN: the seed's
-// Mueller form; VISCOSITY_ARTIFICIAL: Monaghan), gravity. Reduces max |v|^2 and |a|^2 for the CFL step.
+// column by rho g |x_b - x_i| and lets it sink into the wall) and friction, viscosity
+// (VISCOSITY_LAPLACIAN: Mueller et al. 2003; VISCOSITY_ARTIFICIAL: Monaghan), gravity. Reduces max |v|^2
+// and |a|^2 for the CFL step.
 #include "sph_params.glsl"
-#include "sph_kernels.glsl"
+#include "sph_neighbors.glsl"
 layout(local_size_x = SIM_WG) in;
 layout(std430, binding = SPHFX_SSBO_SIM_POS) readonly buffer SimPos { vec4 pos[]; };
 layout(std430, binding = SPHFX_SSBO_SIM_VEL) readonly buffer SimVel { vec4 vel[]; };
@@ -105,29 +106,15 @@ void main() {
   if (live) {
     vec3 xi = pos[i].xyz, vi = vel[i].xyz;
     vec2 dpi = densityPressure[i];
-    ivec3 cell = sphCell(xi);
     vec3 a = simGravity.xyz;
 #if defined(SIM_NEIGHBOR_MASKS)
-    uint n = simCounts.x, row = 0u;
+    uint n = simCounts.x;
 #endif
-    for (int dz = -1; dz <= 1; ++dz)
-      for (int dy = -1; dy <= 1; ++dy) {
-        uint first, last;
-#if defined(SIM_PERIODIC_X)
-        // The cell across the seam (not in the density pass's masks): distance-tested here.
-        if (sphRowWrap(cell, dy, dz, first, last)) {
-          a += fluidTerms(i, xi, vi, dpi.x, dpi.y, cellStart[first], cellStart[last]);
-          a += boundaryTerms(xi, vi, dpi.x, dpi.y, bStart[first], bStart[last]);
-        }
-#endif
-        if (!sphRow(xi, cell, dy, dz, first, last)) {
+    SPH_FOR_EACH_CELL_RANGE(xi, row, seam, first, last)
 #if defined(SIM_NEIGHBOR_MASKS)
-          ++row;
-#endif
-          continue;
-        }
-#if defined(SIM_NEIGHBOR_MASKS)
-        // The masked slots, then whatever lies past the row's 32nd slot with the distance test.
+      // The masked slots, then whatever lies past the row's 32nd slot with the distance test. The cell
+      // across a periodic seam has no mask: distance-tested below.
+      if (!seam) {
         uint f0 = cellStart[first], fe = cellStart[last], b0 = bStart[first], be = bStart[last];
         vec3 af = vec3(0.0);
         for (uint m = neighbors[row * n + i]; m != 0u; m &= m - 1u)
@@ -137,12 +124,12 @@ void main() {
           a += boundaryTerm(b0 + uint(findLSB(m)), xi, vi, dpi.x, dpi.y);
         if (fe > f0 + 32u) a += fluidTerms(i, xi, vi, dpi.x, dpi.y, f0 + 32u, fe);
         if (be > b0 + 32u) a += boundaryTerms(xi, vi, dpi.x, dpi.y, b0 + 32u, be);
-        ++row;
-#else
-        a += fluidTerms(i, xi, vi, dpi.x, dpi.y, cellStart[first], cellStart[last]);
-        a += boundaryTerms(xi, vi, dpi.x, dpi.y, bStart[first], bStart[last]);
-#endif
+        continue;
       }
+#endif
+      a += fluidTerms(i, xi, vi, dpi.x, dpi.y, cellStart[first], cellStart[last]);
+      a += boundaryTerms(xi, vi, dpi.x, dpi.y, bStart[first], bStart[last]);
+    SPH_END_FOR_EACH_CELL_RANGE
     accel[i] = vec4(a, 0.0);
     atomicMax(groupMaxSpeed2, floatBitsToUint(dot(vi, vi)));
     atomicMax(groupMaxAccel2, floatBitsToUint(dot(a, a)));

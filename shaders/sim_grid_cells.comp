@@ -3,7 +3,7 @@
 // SIM_GRID_SPLIT_X the rank's top two bits hold the item's slab in x within its cell (0 to split - 1),
 // by which sim_grid_sort.comp orders the cell first.
 layout(local_size_x = 64) in;
-layout(std430, binding = 0) readonly buffer GridSrcPos { vec4 srcPos[]; };
+layout(std430, binding = SPHFX_SSBO_SIM_GRID_SRC_POS) readonly buffer GridSrcPos { vec4 srcPos[]; };
 layout(std430, binding = SPHFX_SSBO_SIM_CELL_START) buffer GridCellCount { uint cellCount[]; };
 layout(std430, binding = SPHFX_SSBO_SIM_GRID_CELL_RANK) writeonly buffer GridCellRank { uvec2 cellRank[]; };
 uniform uint uItemCount;

@@ -5,10 +5,10 @@
 // cell is ordered by slab first, and the pass writes where each slab starts: the row starts that
 // sphRow() indexes (cell c's slab q at c * split + q, the same layout as a grid of h / split cells).
 layout(local_size_x = 64) in;
-layout(std430, binding = 0) readonly buffer GridSrcPos { vec4 srcPos[]; };
-layout(std430, binding = 1) readonly buffer GridSrcVel { vec4 srcVel[]; };
-layout(std430, binding = 2) writeonly buffer GridDstPos { vec4 dstPos[]; };
-layout(std430, binding = 3) writeonly buffer GridDstVel { vec4 dstVel[]; };
+layout(std430, binding = SPHFX_SSBO_SIM_GRID_SRC_POS) readonly buffer GridSrcPos { vec4 srcPos[]; };
+layout(std430, binding = SPHFX_SSBO_SIM_GRID_SRC_VEL) readonly buffer GridSrcVel { vec4 srcVel[]; };
+layout(std430, binding = SPHFX_SSBO_SIM_GRID_DST_POS) writeonly buffer GridDstPos { vec4 dstPos[]; };
+layout(std430, binding = SPHFX_SSBO_SIM_GRID_DST_VEL) writeonly buffer GridDstVel { vec4 dstVel[]; };
 layout(std430, binding = SPHFX_SSBO_SIM_CELL_START) readonly buffer GridCellStart { uint cellStart[]; };
 layout(std430, binding = SPHFX_SSBO_SIM_GRID_SORTED) buffer GridSorted { uint sortedIndex[]; };
 #if defined(SIM_GRID_SPLIT_X)

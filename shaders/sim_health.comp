@@ -2,8 +2,8 @@
 // dense. Counts per cause and the smallest offending id, for the error message.
 #include "sph_params.glsl"
 layout(local_size_x = SIM_WG) in;
-layout(std430, binding = SPHFX_SSBO_SIM_UNSORTED_POS) readonly buffer SimPos { vec4 pos[]; };
-layout(std430, binding = SPHFX_SSBO_SIM_UNSORTED_VEL) readonly buffer SimVel { vec4 vel[]; };
+layout(std430, binding = SPHFX_SSBO_SIM_UNSORTED_POS) readonly buffer SimUnsortedPos { vec4 pos[]; };
+layout(std430, binding = SPHFX_SSBO_SIM_UNSORTED_VEL) readonly buffer SimUnsortedVel { vec4 vel[]; };
 layout(std430, binding = SPHFX_SSBO_SIM_DENSITY) readonly buffer SimDensity { vec2 densityPressure[]; };
 
 void flag(uint cause, uint id) {

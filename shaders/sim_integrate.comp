@@ -1,6 +1,7 @@
 // Symplectic (semi-implicit) Euler: v += dt a, then x += dt v. Then the last-resort guarantees: clamp
-// into the domain (wrap along periodic axes) and project out of colliders (the boundary samples do the physical work; this only
-// ensures that no particle tunnels or escapes). Writes the unsorted state the next step sorts.
+// into the domain (wrap along periodic axes) and project out of colliders (the boundary samples do the
+// physical work; this only ensures that no particle tunnels or escapes). Writes the unsorted state the
+// next step sorts.
 #include "sph_params.glsl"
 #if defined(HAS_COLLIDERS)
 #include "sph_colliders.glsl"

@@ -18,19 +18,15 @@ float chooseDt(float speed2, float accel2) {
   float h = simDomainMin.w;
 #if defined(SOLVER_DFSPH)
   // Incompressible: the flow alone limits dt (no sound speed). Bender & Koschier's CFL condition bounds
-  // the step's displacement by 0.4 d (d the particle spacing, not h: with h the dam break's fastest
-  // particles reached 2x the physical surge speed). The displacement includes what the non-pressure
-  // accelerations add during the step, |v| dt + |a| dt^2 <= cfl d (SPlisHSPlasH takes |v + a dt|):
-  // from rest |v| = 0 and dt_max alone let the first step of a 98k-particle dam break fall 0.63 d
-  // onto the floor in one step, beyond what the pressure solve's linearisation can take back, and the
-  // run blew up (docs/dfsph.md, "Time step from rest").
+  // the step's displacement by cfl d (d the particle spacing: with h the dam break's front runs at twice
+  // the surge speed), including what the non-pressure accelerations add during the step,
+  // |v| dt + |a| dt^2 <= cfl d, so that a step from rest (|v| = 0) does not fall further than the
+  // pressure solve's linearisation can take back (|v| alone: 0.63 d onto the floor, and the run fails).
   float reach = simStep.x * simDomainMax.w, v = sqrt(speed2), a = sqrt(accel2);
   float dt = a > 0.0 ? 2.0 * reach / (v + sqrt(v * v + 4.0 * a * reach))
                      : (v > 0.0 ? reach / v : simLimits.y);
-  // The fall alone, |a| dt^2 <= fall_factor d: at the default spacing a first step of 16.7 ms from rest
-  // (0.27 d onto the floor, within the displacement bound) blew up the tank corner before the mended
-  // walls. Since then it holds, but costs front accuracy at fine spacings: 0.15 d stays the default
-  // (docs/dfsph.md, "Tenth session").
+  // The fall alone, |a| dt^2 <= fall_factor d: larger first steps from rest cost front accuracy at fine
+  // spacings.
   if (a > 0.0) dt = min(dt, sqrt(simStep.z * simDomainMax.w / a));
 #else
   float dt = simStep.x * h / (simFluid.w + sqrt(speed2));

@@ -1,9 +1,11 @@
 // DFSPH (Bender & Koschier 2015/2017) data shared by the sim_dfsph_*.comp passes. Needs sph_params.glsl.
+#if defined(SIM_PERIODIC_X) || defined(SIM_PERIODIC_Z)
+#error "the DFSPH passes have no periodic boundaries (scenes with both are rejected)"
+#endif
 //
 // Stiffness values are stored dt-free as kappa_i / rho_i: the density solver's total is p / rho^2 (the
 // pressure acceleration is -m sum (P_i + P_j) grad W), the divergence solver's total changes velocities
 // by -m sum (K_i + K_j) grad W. Both are independent of the time step, so they warm-start the next step.
-#include "sph_dfsph_bindings.glsl"
 #include "sph_textures.glsl"
 
 // x: the constant-density solve's factor alpha_i / rho_i, 1 / (g . (g + (c - 1) sum_b psi_b grad W_ib) +
@@ -31,18 +33,16 @@ layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_CONTROL) buffer DfsphControl {
 };
 
 // Kernel gradient of every DFSPH sum (density change, factor, pressure corrections): the spiky gradient
-// of the WCSPH force (strong repulsion at short range). The poly6 gradient, consistent with the measured
-// density, was tried for D rho/Dt: its flat centre lets particles settle onto wall samples, and the tank
-// compressed more.
+// of the WCSPH force, whose strong short-range repulsion keeps particles off the wall samples (poly6's
+// flat centre lets them settle onto the samples and the tank compress).
 #define dfsphGrad(d) sphSpikyGrad(d, length(d))
 
 // Walls in the DFSPH density and in every DFSPH gradient sum: psi_b times the spiky kernel (the kernel
 // whose gradient the solves use) weighted by dfsphWallScale(), so that a particle pressed into a wall
-// sees its density rise steeply: 9 % at 0.2 spacings from a flat wall's resting site, against 1.1 %
-// with poly6, whose flat centre let the bottom layer sink towards the samples (docs/dfsph.md, "Spiky
-// walls"). The weights (DFSPHSolver::spikyWallScales) make the resting lattice sum to the poly6 rest
-// density next to faces, edges and corners: a sample beyond one, two or three of the domain's walls
-// (collider samples, inside the domain, count as a face).
+// sees its density rise steeply (9 % at 0.2 spacings from a flat wall's resting site; poly6: 1.1 %).
+// The weights (DFSPHSolver::spikyWallScales) make the resting lattice sum to the poly6 rest density
+// next to faces, edges and corners: a sample beyond one, two or three of the domain's walls (collider
+// samples, inside the domain, count as a face).
 // (Defined for sim_dfsph_factor.comp only: DFSPHSolver::factorDefines.)
 #if defined(DFSPH_WALL_SPIKY_FACE)
 float dfsphWallScale(vec3 xb) {
@@ -52,18 +52,14 @@ float dfsphWallScale(vec3 xb) {
 }
 #endif
 
-// Walls in the constant-density solve carry part of the particle's stiffness mirrored onto every
-// boundary sample, P_b = 0.5 P_i, plus the hydrostatic rise from the particle to the sample,
-// g . (x_b - x_i) / rho_i (after Adami et al. 2012, as the WCSPH force): a sample pushes with
-// (P_i + P_b) psi_b grad W. With P_i alone (Akinci 2012, SPlisHSPlasH's DFSPH) a particle on its resting
-// lattice site is pushed down by the fluid above and held by nothing (the walls' and the fluid's
-// gradient sums cancel there), so the bottom layer sank into the floor down to the clamp; the resting
-// tank's hydrostatic profile was off by 0.61 (relative L2). The full mirror (P_b = P_i, 2 x) held it
-// with poly6 walls (0.24), but with the stiffer spiky walls above the projected Jacobi iteration then
-// diverges from rest (the tank's first solve: 2000 iterations, 0.48 %, 2.8 m/s); 1.25 / 1.5 / 1.75 x
-// take 42 / 80 / 197 iterations there with L2 0.27 / 0.24 / 0.22 (docs/dfsph.md, "Spiky walls"). The
-// divergence solve keeps the particle's own impulse (1 x): twice did not converge within its tolerance.
-const float DFSPH_DENSITY_WALL_PUSH = 1.5;
+// The constant-density solve's walls push with DFSPH_DENSITY_WALL_PUSH P_i psi_b grad W
+// (solver.dfsph.density_wall_push, 1.5 by default: the particle's stiffness plus half of it mirrored onto
+// the sample, which holds a resting bottom layer up against the fluid above it), plus the hydrostatic rise
+// g . (x_b - x_i) / rho_i (after Adami et al. 2012, as the WCSPH force). 1 x (Akinci 2012) lets the layer
+// sink (hydrostatic L2 0.61); 2 x diverges from rest. The divergence solve's walls push 1 x.
+#ifndef DFSPH_DENSITY_WALL_PUSH
+#error "DFSPH_DENSITY_WALL_PUSH: set by DFSPHSolver from solver.dfsph.density_wall_push"
+#endif
 
 // Neighbour lists, built once per substep by sim_dfsph_factor.comp and read by every solver iteration,
 // so that an iteration visits the ~30 neighbours of a particle instead of the ~200 candidates of its

@@ -37,7 +37,7 @@ float sphPressure(float rho) {
 // With SIM_GRID_SPLIT_X (sphfx::sim::gridSplitX(): each cell ordered in slabs of h / split in x, and
 // the starts indexed per slab, NeighborGrid::rowStart()) the range is trimmed to the x-interval that the
 // kernel sphere of xi reaches at the row's nearest y and z, and rows it does not reach are skipped: 27
-// h^3 of candidates become about 15 h^3 with split 4 (docs/dfsph.md, "Slabs in x"). The reach is
+// h^3 of candidates become about 15 h^3 with split 4. The reach is
 // widened by 1e-3 h so that rounding never drops a neighbour; beyond h every kernel is 0.
 bool sphRow(vec3 xi, ivec3 cell, int dy, int dz, out uint first, out uint last) {
   ivec3 r = cell + ivec3(0, dy, dz);
@@ -78,7 +78,7 @@ bool sphRow(vec3 xi, ivec3 cell, int dy, int dz, out uint first, out uint last) 
 // floor(extent / h) >= 3 cells, the last one taking the remainder, so the cells tile the period.
 // Every pair distance goes through sphDelta() (minimum image), and a neighbour row of a particle in the
 // first or last x column also has the cell on the other side of the seam (sphRowWrap()). Without
-// periodic axes both compile to exactly the code before them.
+// periodic axes sphDelta() is the plain difference.
 
 // Offset x_i - x_j, reduced to the nearest periodic image along the periodic axes.
 vec3 sphDelta(vec3 xi, vec3 xj) {

@@ -9,7 +9,8 @@ layout(std140, binding = SPHFX_UBO_SIM_PARAMS) uniform SimParams {
   vec4 simDomainMax;   // xyz; w: particle spacing
   vec4 simGravity;     // xyz; w: particle mass
   ivec4 simGridDims;   // xyz: cells; w: number of cells (= index of the out-of-grid cell)
-  vec4 simKernel;      // x: poly6 factor, y: spiky gradient factor (< 0), z: viscosity Laplacian factor, w: h^2
+  vec4 simKernel;      // x: poly6 factor, y: spiky gradient factor (< 0), z: viscosity Laplacian
+                       // factor, w: h^2
   vec4 simFluid;       // x: rest density, y: EOS stiffness (linear k or Tait B), z: gamma, w: speed of sound
   vec4 simViscosity;   // x: kinematic viscosity, y: Monaghan alpha, z: wall clamp margin, w: unused
   vec4 simStep;        // x: CFL factor, y: viscous factor, z: force (WCSPH) or fall (DFSPH) factor,

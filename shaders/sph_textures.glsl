@@ -1,11 +1,9 @@
 // Read-only views of the simulation buffers as buffer textures (units in sim_bindings.h), for the
-// loops over neighbours and grid candidates. Why not the storage blocks: llvmpipe (Mesa 22, Debian 12)
-// loads storage-buffer data at a per-invocation offset lane by lane, with a bounds check and a branch
-// per component, while a texel fetch is one vector gather. Reading the DFSPH loops through these (with
-// the changes beside it) made a 1 s DFSPH run 2.0-2.8x faster on llvmpipe (docs/performance.md,
-// "DFSPH"; docs/dfsph.md, "Texel fetches"). Writes still go
-// through the storage blocks; a pass that writes a buffer is followed by GL_TEXTURE_FETCH_BARRIER_BIT
-// (storageBarrier()). The C++ side binds the views with GpuBuffer::bindTexture.
+// loops over neighbours and grid candidates: llvmpipe (Mesa 22) loads storage-buffer data at a
+// per-invocation offset lane by lane, with a bounds check and a branch per component, while a texel
+// fetch is one vector gather. Writes go through the storage blocks; a pass that writes a buffer is
+// followed by GL_TEXTURE_FETCH_BARRIER_BIT (storageBarrier()). C++ binds the views with
+// GpuBuffer::bindTexture.
 layout(binding = SPHFX_TEX_SIM_POS) uniform samplerBuffer simPosTex;
 layout(binding = SPHFX_TEX_SIM_VEL) uniform samplerBuffer simVelTex;
 layout(binding = SPHFX_TEX_SIM_DENSITY) uniform samplerBuffer simDensityTex;

@@ -8,7 +8,6 @@
 #include <numbers>
 
 #include "bindings.h"
-#include "sph_dfsph_bindings.glsl"
 #include "sphfx/core/error.h"
 #include "sphfx/gpu/gl.h"
 #include "sphfx/gpu/gl_context.h"
@@ -123,11 +122,10 @@ DFSPHSolver::DFSPHSolver(const Scene& scene, const DispatchGate& gate, const Sha
       boundary_(size_t(std::max<uint32_t>(particles, 1)) * 16),
       count_(size_t(std::max<uint32_t>(particles, 1)) * 4),
       factor_(ShaderProgram::compute(simShaderTable(), "sim_dfsph_factor.comp", factorDefines(scene, defines))),
-      nonPressure_(ShaderProgram::compute(simShaderTable(), "sim_dfsph_nonpressure.comp", withDensitySolveShares(settings_, defines))) {
+      nonPressure_(ShaderProgram::compute(simShaderTable(), "sim_dfsph_nonpressure.comp", nonPressureDefines(settings_, defines))) {
   checkListFitsTextureView();
-  density_ = makeSolve(withDensitySolveShares(settings_, defines), false, settings_.maxDensityError, 0);
-  divergence_ = makeSolve(withDensitySolveShares(settings_, defines), true, settings_.maxDivergenceError,
-                          3 * DispatchGate::kParticleEntry);
+  density_ = makeSolve(defines, false, 0);
+  divergence_ = makeSolve(defines, true, 3 * DispatchGate::kParticleEntry);
   DfsphControl c{};
   const uint32_t live[9] = {groups_, 1, 1, 1, 1, 1, groups_, 1, 1};
   std::copy(live, live + 9, c.args + 9);
@@ -136,18 +134,29 @@ DFSPHSolver::DFSPHSolver(const Scene& scene, const DispatchGate& gate, const Sha
   particle_.fill(0);
 }
 
-DFSPHSolver::Solve DFSPHSolver::makeSolve(ShaderDefines d, bool divergence, double tolerance,
-                                          uint32_t gateWord) const {
+ShaderDefines DFSPHSolver::solveDefines(const DfsphSettings& settings, ShaderDefines d, bool divergence,
+                                        uint32_t groups, uint32_t gateWord) {
+  d = withDensitySolveShares(settings, std::move(d));
   if (divergence) d.set("DFSPH_DIVERGENCE");
   d.set("DFSPH_SOLVE", divergence ? 1 : 0);
-  d.set("DFSPH_TOLERANCE", float(tolerance));
-  d.set("DFSPH_MIN_ITER", divergence ? settings_.minDivergenceIterations : settings_.minIterations);
-  d.set("DFSPH_MAX_ITER", settings_.maxIterations);
-  d.set("DFSPH_GROUPS", groups_);
+  d.set("DFSPH_TOLERANCE", float(divergence ? settings.maxDivergenceError : settings.maxDensityError));
+  d.set("DFSPH_MIN_ITER", divergence ? settings.minDivergenceIterations : settings.minIterations);
+  d.set("DFSPH_MAX_ITER", settings.maxIterations);
+  d.set("DFSPH_GROUPS", groups);
   d.set("DFSPH_GATE_WORD", gateWord);
-  d.set("DFSPH_OMEGA", float(settings_.jacobiOmega));
-  if (settings_.jacobiMomentum > 0) d.set("DFSPH_MOMENTUM");
-  d.set("DFSPH_WARM_SHARE", float(divergence ? settings_.divergenceWarmShare : settings_.densityWarmShare));
+  d.set("DFSPH_OMEGA", float(settings.jacobiOmega));
+  if (settings.jacobiMomentum > 0) d.set("DFSPH_MOMENTUM");
+  d.set("DFSPH_WARM_SHARE", float(divergence ? settings.divergenceWarmShare : settings.densityWarmShare));
+  return d;
+}
+
+ShaderDefines DFSPHSolver::nonPressureDefines(const DfsphSettings& settings, ShaderDefines defines) {
+  return withDensitySolveShares(settings, std::move(defines));
+}
+
+DFSPHSolver::Solve DFSPHSolver::makeSolve(const ShaderDefines& defines, bool divergence,
+                                          uint32_t gateWord) const {
+  const ShaderDefines d = solveDefines(settings_, defines, divergence, groups_, gateWord);
   return {ShaderProgram::compute(simShaderTable(), "sim_dfsph_begin.comp", d),
           ShaderProgram::compute(simShaderTable(), "sim_dfsph_source.comp", d),
           ShaderProgram::compute(simShaderTable(), "sim_dfsph_reduce.comp", d),

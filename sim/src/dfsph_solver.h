@@ -77,6 +77,13 @@ class DFSPHSolver : public PressureSolver {
   /// below which a particle gets no divergence correction (a divergence factor of 0), and the walls'
   /// spiky density weights (spikyWallScales()).
   static ShaderDefines factorDefines(const Scene& scene, ShaderDefines defines);
+  /// `defines` plus what the four programs of one solve need (sim_dfsph_begin/source/reduce/apply):
+  /// the tolerances, iteration limits, relaxation, momentum and warm share of `settings`, the work
+  /// groups of one pass and the dispatch gate's word for the solve.
+  static ShaderDefines solveDefines(const DfsphSettings& settings, ShaderDefines defines, bool divergence,
+                                    uint32_t groups, uint32_t gateWord);
+  /// `defines` plus what sim_dfsph_nonpressure.comp needs (the density solve's warm share, wall push).
+  static ShaderDefines nonPressureDefines(const DfsphSettings& settings, ShaderDefines defines);
 
   /// Weights of the wall samples' spiky density term, by how many of the domain's walls a sample lies
   /// beyond: [0] one (faces; also every collider sample), [1] two (edges), [2] three (corners). The walls
@@ -99,7 +106,7 @@ class DFSPHSolver : public PressureSolver {
     /// acceleration by the non-pressure pass.
     bool applyWarmStart;
   };
-  Solve makeSolve(ShaderDefines defines, bool divergence, double tolerance, uint32_t gateWord) const;
+  Solve makeSolve(const ShaderDefines& defines, bool divergence, uint32_t gateWord) const;
   void run(const Solve& s, const char* label, PassTimer& timer) const;
   void bind() const;
   void checkListFitsTextureView() const;

@@ -63,10 +63,10 @@ void NeighborGrid::build(const GpuBuffer& srcPos, const GpuBuffer& srcVel, const
                          const GpuBuffer& dstVel) const {
   cellStart_.fill(0);
   if (items_ == 0) return;
-  srcPos.bindStorage(0);
-  srcVel.bindStorage(1);
-  dstPos.bindStorage(2);
-  dstVel.bindStorage(3);
+  srcPos.bindStorage(SPHFX_SSBO_SIM_GRID_SRC_POS);
+  srcVel.bindStorage(SPHFX_SSBO_SIM_GRID_SRC_VEL);
+  dstPos.bindStorage(SPHFX_SSBO_SIM_GRID_DST_POS);
+  dstVel.bindStorage(SPHFX_SSBO_SIM_GRID_DST_VEL);
   cellStart_.bindStorage(SPHFX_SSBO_SIM_CELL_START);
   cellRank_.bindStorage(SPHFX_SSBO_SIM_GRID_CELL_RANK);
   sorted_.bindStorage(SPHFX_SSBO_SIM_GRID_SORTED);

@@ -8,6 +8,7 @@
 #include <cstring>
 #include <vector>
 
+#include "bindings.h"
 #include "sphfx/core/error.h"
 #include "sphfx/gpu/gl.h"
 #include "sphfx/gpu/gl_context.h"
@@ -69,10 +70,10 @@ struct FetchedTexels {
 FetchedTexels fetchThroughViews(const GpuBuffer& floats, const GpuBuffer& words, uint32_t count) {
   const ShaderProgram p = ShaderProgram::compute(gpuShaderTable(), "selftest_texture.comp");
   GpuBuffer floatsOut(size_t(count) * 16), wordsOut(size_t(count) * 4);
-  floats.bindTexture(0, GL_RGBA32F);
-  words.bindTexture(1, GL_R32UI);
-  floatsOut.bindStorage(0);
-  wordsOut.bindStorage(1);
+  floats.bindTexture(SPHFX_TEX_SELFTEST_FLOATS, GL_RGBA32F);
+  words.bindTexture(SPHFX_TEX_SELFTEST_WORDS, GL_R32UI);
+  floatsOut.bindStorage(SPHFX_SSBO_SELFTEST_FLOATS_OUT);
+  wordsOut.bindStorage(SPHFX_SSBO_SELFTEST_WORDS_OUT);
   p.use();
   glProgramUniform1ui(p.id(), p.uniform("uCount"), count);
   glDispatchCompute((count + 63) / 64, 1, 1);
@@ -115,5 +116,5 @@ TEST(GLCompute, BufferTextureViewsFetchTheStoredBitsAndFollowResize) {
     expectSameBits(got.floats, f);
     EXPECT_EQ(got.words, w);
   }
-  EXPECT_THROW(floats.bindTexture(0, GL_RGB8), GLError);
+  EXPECT_THROW(floats.bindTexture(SPHFX_TEX_SELFTEST_FLOATS, GL_RGB8), GLError);
 }

@@ -16,7 +16,6 @@
 #include <vector>
 
 #include "sim_test_util.h"
-#include "sph_dfsph_bindings.glsl"
 #include "sphfx/gpu/gl_context.h"
 #include "sphfx/core/particle_cache.h"
 #include "sphfx/core/scene.h"
