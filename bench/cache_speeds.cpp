@@ -1,11 +1,11 @@
 // Fastest particles of a shot's cache frames: how many exceed 3 and 5 m/s, and the fastest few with
 // their positions and velocities. The CFL step (0.4 d / |v|max) follows the single fastest particle,
-// so this shows what sets a run's step count (docs/performance.md, "DFSPH"). With --densest N also the
+// so this shows what sets a run's step count (docs/performance.md, "Simulation"). With --densest N also the
 // N densest particles (the cache must store `density`, scene cache.attributes): where a run that stops
-// on health.max_density_ratio compresses (docs/accuracy.md, "Known gaps"). With --near-walls the number of
-// particles within 0.1 and 0.25 spacings of the domain's walls (the shot's manifest.json gives the domain;
+// on health.max_density_ratio compresses (docs/validation.md, "Known limits"). With --near-walls the number
+// of particles within 0.1 and 0.25 spacings of the domain's walls (the shot's manifest.json gives the domain;
 // a resting first layer sits at 0.5 spacings): how deep the fluid is pressed into the walls
-// (docs/dfsph.md, "Walls").
+// (docs/design.md, "Boundaries").
 //   cache_speeds SHOT FRAME... [--top N] [--densest N] [--near-walls]
 #include <algorithm>
 #include <array>

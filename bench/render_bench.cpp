@@ -14,11 +14,11 @@
 #include <random>
 #include <string>
 
+#include "renderer.h"
 #include "sphfx/core/error.h"
 #include "sphfx/gpu/gl.h"
 #include "sphfx/gpu/gl_context.h"
 #include "sphfx/render/render_shot.h"
-#include "renderer.h"
 
 using namespace sphfx;
 using namespace sphfx::render;

@@ -23,10 +23,10 @@
 #include <string>
 #include <vector>
 
+#include "simulator.h"
+#include "sphfx/core/scene.h"
 #include "sphfx/gpu/gl.h"
 #include "sphfx/gpu/gl_context.h"
-#include "sphfx/core/scene.h"
-#include "simulator.h"
 
 namespace {
 

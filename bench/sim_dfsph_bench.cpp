@@ -8,19 +8,19 @@
 #include <fmt/format.h>
 
 #include <chrono>
-#include <ctime>
 #include <cmath>
 #include <cstdio>
+#include <ctime>
 #include <exception>
 #include <string>
 #include <vector>
 
-#include "sphfx/gpu/gl.h"
-#include "sphfx/gpu/gl_context.h"
-#include "sphfx/core/scene.h"
-#include "simulator.h"
 #include "metrics.h"
 #include "references.h"
+#include "simulator.h"
+#include "sphfx/core/scene.h"
+#include "sphfx/gpu/gl.h"
+#include "sphfx/gpu/gl_context.h"
 
 namespace {
 
@@ -94,8 +94,8 @@ void run(const Options& o, const std::string& solver, double spacing, const stud
   const double n = double(substeps);
   const double cpu = double(std::clock() - cpu0) / CLOCKS_PER_SEC;
   std::printf("%-6s %8.4f %8u %7.2f %7.2f %7ld %9.3e %7.2f %7.2f %9.2e %9.2e %8.4f %8.4f\n", solver.c_str(),
-              spacing, sim.particleCount(), wall, cpu, substeps, dtSum / n, pIt / n, dIt / n, errMean / n, errMax,
-              e.rms, e.max);
+              spacing, sim.particleCount(), wall, cpu, substeps, dtSum / n, pIt / n, dIt / n, errMean / n,
+              errMax, e.rms, e.max);
   std::fflush(stdout);
 }
 

@@ -102,7 +102,8 @@ void addRunCommand(CLI::App& app) {
   CLI::App* cmd =
       app.add_subcommand("run", "Simulate, surface and render a shot end to end (skips work already done)");
   auto o = std::make_shared<RunOptions>();
-  cmd->add_option("SCENE", o->sceneFile, "Scene JSON file")->required()
+  cmd->add_option("SCENE", o->sceneFile, "Scene JSON file")
+      ->required()
       ->transform(resolveShippedFile, "", "");
   cmd->add_option("-o,--output", o->shot, "Shot directory")->required();
   cmd->add_option("--frames", o->frames, "Frames, A-B or A (default: the scene's)");

@@ -14,8 +14,7 @@ void addSceneCommand(CLI::App& app) {
       app.add_subcommand("scene", "Validate a scene and print it resolved (every default filled in)");
   auto file = std::make_shared<std::string>();
   auto schemaFlag = std::make_shared<bool>(false);
-  cmd->add_option("SCENE", *file, "Scene JSON file")
-      ->transform(resolveShippedFile, "", "");
+  cmd->add_option("SCENE", *file, "Scene JSON file")->transform(resolveShippedFile, "", "");
   cmd->add_flag("--schema", *schemaFlag, "Print the parameter reference (Markdown) instead");
   auto sets = addSetOption(cmd);
   cmd->callback([file, schemaFlag, sets] {
@@ -26,8 +25,8 @@ void addSceneCommand(CLI::App& app) {
     if (file->empty()) throw InputError("scene: expected a SCENE file (or --schema)");
     const Scene scene = loadScene(*file, *sets);
     std::printf("%s\n", sceneToJson(scene).dump(2).c_str());
-    logInfo(fmt::format("{}: valid; {} particles, kernel radius {:g} m, particle mass {:g} kg, {} frames", *file,
-                        countInitialParticles(scene), scene.kernelRadius(), scene.particleMass(),
+    logInfo(fmt::format("{}: valid; {} particles, kernel radius {:g} m, particle mass {:g} kg, {} frames",
+                        *file, countInitialParticles(scene), scene.kernelRadius(), scene.particleMass(),
                         scene.time.endFrame - scene.time.startFrame + 1));
   });
 }

@@ -15,8 +15,7 @@ void addSimulateCommand(CLI::App& app) {
   auto shot = std::make_shared<std::string>();
   auto frames = std::make_shared<std::string>();
   auto resume = std::make_shared<bool>(false);
-  cmd->add_option("SCENE", *file, "Scene JSON file")->required()
-      ->transform(resolveShippedFile, "", "");
+  cmd->add_option("SCENE", *file, "Scene JSON file")->required()->transform(resolveShippedFile, "", "");
   cmd->add_option("-o,--output", *shot, "Shot directory (caches go to SHOT/cache)")->required();
   cmd->add_option("--frames", *frames, "Frames to write, A-B or A (default: the scene's)");
   cmd->add_flag("--resume", *resume, "Continue from the shot's last complete frame");

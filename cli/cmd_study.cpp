@@ -23,14 +23,17 @@ std::vector<std::string> glArgs(const GLContextOptions& gl) {
 }  // namespace
 
 void addStudyCommand(CLI::App& app) {
-  CLI::App* cmd = app.add_subcommand("study", "Run an error-against-run-time study: a grid of simulations on "
-                                              "validation scenes, measured against independent references");
+  CLI::App* cmd = app.add_subcommand("study",
+                                     "Run an error-against-run-time study: a grid of simulations on "
+                                     "validation scenes, measured against independent references");
   auto file = std::make_shared<std::string>();
   auto out = std::make_shared<std::string>();
   auto keep = std::make_shared<bool>(false);
-  cmd->add_option("STUDY", *file, "Study JSON file (e.g. studies/quick.json)")->required()
+  cmd->add_option("STUDY", *file, "Study JSON file (e.g. studies/quick.json)")
+      ->required()
       ->transform(resolveShippedFile, "", "");
-  cmd->add_option("-o,--output", *out, "Output folder (results.csv, error_vs_time.png, report.md)")->required();
+  cmd->add_option("-o,--output", *out, "Output folder (results.csv, error_vs_time.png, report.md)")
+      ->required();
   cmd->add_flag("--keep-shots", *keep, "Keep every run's particle caches");
   auto gl = addGLOptions(cmd);
   cmd->callback([=] {
@@ -40,13 +43,15 @@ void addStudyCommand(CLI::App& app) {
     for (const auto& r : results) failed += r.outcome.status == study::RunStatus::Failed ? 1 : 0;
     std::printf("%zu runs, %zu failed; report: %s\n", results.size(), failed,
                 (fs::path(*out) / "report.md").c_str());
-    if (failed) throw Error(fmt::format("{} of {} study runs failed (see {}/report.md)", failed, results.size(), *out));
+    if (failed)
+      throw Error(fmt::format("{} of {} study runs failed (see {}/report.md)", failed, results.size(), *out));
   });
 }
 
 void addStabilityCommand(CLI::App& app) {
-  CLI::App* cmd = app.add_subcommand("stability", "Run the stability suite on stiff and extreme cases; exits "
-                                                  "non-zero if any run fails (crash, hang, garbage)");
+  CLI::App* cmd = app.add_subcommand("stability",
+                                     "Run the stability suite on stiff and extreme cases; exits "
+                                     "non-zero if any run fails (crash, hang, garbage)");
   auto file = std::make_shared<std::string>();
   auto out = std::make_shared<std::string>("stability");
   auto quick = std::make_shared<bool>(false);
@@ -55,20 +60,23 @@ void addStabilityCommand(CLI::App& app) {
   cmd->add_option("--suite", *file, "Suite file (default: the shipped studies/stability.json)");
   cmd->add_option("-o,--output", *out, "Output folder (stability.csv, stability.md)")->capture_default_str();
   cmd->add_flag("--quick", *quick, "Only the quick set (what CI runs)");
-  cmd->add_option("--solvers", *solvers, "Override the suite's solvers (e.g. --solvers wcsph)")->delimiter(',');
+  cmd->add_option("--solvers", *solvers, "Override the suite's solvers (e.g. --solvers wcsph)")
+      ->delimiter(',');
   cmd->add_flag("--keep-shots", *keep, "Keep every run's particle caches");
   auto gl = addGLOptions(cmd);
   cmd->callback([=] {
     // Runs are subprocesses of this very executable, so the suite measures the build it is part of.
-    const std::string suiteFile = file->empty() ? dataDirectory() + "/studies/stability.json" : resolveShippedFile(*file);
+    const std::string suiteFile =
+        file->empty() ? dataDirectory() + "/studies/stability.json" : resolveShippedFile(*file);
     study::StabilitySuite suite = study::loadStabilitySuite(suiteFile);
     if (!solvers->empty()) suite.solvers = *solvers;
     const auto report = study::runStabilitySuite(suite, *quick, *out, {executablePath(), glArgs(*gl), *keep});
     std::printf("%zu runs: %zu failed, %zu stopped although they must stay stable; report: %s\n",
-                report.runs.size(), report.failed, report.unexpected, (fs::path(*out) / "stability.md").c_str());
+                report.runs.size(), report.failed, report.unexpected,
+                (fs::path(*out) / "stability.md").c_str());
     if (report.failed || report.unexpected)
-      throw Error(fmt::format("stability suite: {} failed, {} unexpected stops (see {}/stability.md)", report.failed,
-                              report.unexpected, *out));
+      throw Error(fmt::format("stability suite: {} failed, {} unexpected stops (see {}/stability.md)",
+                              report.failed, report.unexpected, *out));
   });
 }
 

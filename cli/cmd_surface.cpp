@@ -26,8 +26,8 @@ void addSurfaceCommand(CLI::App& app) {
   cmd->add_option("--frames", o->job.frames,
                   "Frame range A-B or a single frame (default: every cached frame)");
   auto* method = cmd->add_option("--method", o->method,
-                                 "spheres (union of spheres, fast preview), zhu-bridson (smooth spheres) or "
-                                 "anisotropic (Yu-Turk kernels) (default: the scene's, zhu-bridson)");
+                                 "Particle-to-level-set method (default: the scene's surface.method). " +
+                                     methodDescriptions(surfacingMethodRegistry()));
   auto* voxel =
       cmd->add_option("--voxel-size", o->voxelSize, "Voxel size in m (default: 0.5 particle spacings)");
   auto* radius = cmd->add_option("--radius", o->radius, "Particle radius in m (default: 1 particle spacing)");

@@ -18,11 +18,14 @@ std::shared_ptr<GLContextOptions> addGLOptions(CLI::App* cmd) {
   return options;
 }
 
-std::string resolveShippedFile(std::string path) { return resolveInputFile(path); }
+std::string resolveShippedFile(std::string path) {
+  return resolveInputFile(path);
+}
 
 std::shared_ptr<std::vector<std::string>> addSetOption(CLI::App* cmd) {
   auto sets = std::make_shared<std::vector<std::string>>();
-  cmd->add_option("--set", *sets, "Override a scene parameter, e.g. --set fluid.viscosity=0.02 (repeatable)")
+  cmd->add_option("--set", *sets,
+                  "Override a scene parameter, e.g. --set fluid.artificial_viscosity=0.04 (repeatable)")
       ->type_name("PATH=VALUE")
       ->take_all()
       ->allow_extra_args(false);

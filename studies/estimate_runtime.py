@@ -4,7 +4,7 @@
 # throughput interpolated (log of particles) between the measured runs; steps = simulated time / dt
 # with dt from the CFL (WCSPH: cfl h / (c + v); DFSPH: cfl spacing / v), viscous and dt_max limits
 # (flow speed v: 4 m/s dam break, 0.5 m/s hydrostatic, 3 mm/s Poiseuille) or the fixed dt; a DFSPH step
-# counted as DFSPH_STEP_COST WCSPH steps (measured on the dam break, docs/accuracy.md).
+# counted as DFSPH_STEP_COST WCSPH steps (measured on the dam break, docs/validation.md).
 # Runs that stop early on a health check (fixed dt above the stable one) make the real study shorter.
 # Usage: python3 studies/estimate_runtime.py studies/full.json docs/quick-study/results.csv
 import json, math, itertools, sys, csv

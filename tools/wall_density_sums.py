@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Density of one particle moved from its lattice site towards a wall of Akinci samples that continue the
 fluid's cubic lattice (psi = m), all other particles and samples fixed: how soft the wall is for each
-density kernel (docs/dfsph.md, "Why the walls let particles in"). Units of the spacing d, h = 2 d.
+density kernel (docs/design.md, "Boundaries"). Units of the spacing d, h = 2 d.
 
     python3 tools/wall_density_sums.py
 """

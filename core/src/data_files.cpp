@@ -21,7 +21,8 @@ std::string dataDirectory() {
     if (!fs::is_directory(env)) throw IoError(std::string("SPHFX_DATA_DIR: no such folder: ") + env);
     return env;
   }
-  const fs::path dir = (fs::path(executablePath()).parent_path() / ".." / "share" / "sphfx").lexically_normal();
+  const fs::path dir =
+      (fs::path(executablePath()).parent_path() / ".." / "share" / "sphfx").lexically_normal();
   if (!fs::is_directory(dir))
     throw IoError("cannot find sphfx's data folder " + dir.string() +
                   " (install with cmake --install, or set SPHFX_DATA_DIR)");

@@ -18,7 +18,8 @@ const std::vector<MethodEntry<Solver>>& pressureSolverRegistry() {
 
 const std::vector<MethodEntry<SurfaceMethod>>& surfacingMethodRegistry() {
   static const std::vector<MethodEntry<SurfaceMethod>> registry = {
-      {SurfaceMethod::Spheres, "spheres", "union of particle spheres (OpenVDB ParticlesToLevelSet): a fast preview", ""},
+      {SurfaceMethod::Spheres, "spheres",
+       "union of particle spheres (OpenVDB ParticlesToLevelSet): a fast preview", ""},
       {SurfaceMethod::ZhuBridson, "zhu-bridson",
        "distance to the kernel-weighted average of nearby particles (Zhu & Bridson 2005)", ""},
       {SurfaceMethod::Anisotropic, "anisotropic",

@@ -144,8 +144,7 @@ std::shared_ptr<const Object<WcsphSettings>> wcsphSchema() {
         .number("stiffness", &WcsphSettings::stiffness, 1000, "m^2/s^2", Range{0, 1e9, true, false},
                 "Linear EOS stiffness k; the speed of sound is then sqrt(k).")
         .onlyWhen([](const WcsphSettings& w) { return !isTait(w); }, "linear eos")
-        .number("gamma", &WcsphSettings::gamma, 7, "", Range::closed(1, 10),
-                "Tait exponent (7 for water).")
+        .number("gamma", &WcsphSettings::gamma, 7, "", Range::closed(1, 10), "Tait exponent (7 for water).")
         .onlyWhen(isTait, "tait eos")
         .number("force_factor", &WcsphSettings::forceFactor, 0.25, "", Range{0, 10, true, false},
                 "CFL mode: factor on Monaghan's force limit sqrt(h / |a|max); lower it if strong body "
@@ -639,7 +638,7 @@ Selector methodSelector(std::vector<std::string> path, const std::vector<MethodE
   Selector s{std::move(path), "method", {}};
   for (const auto& e : registry)
     s.keysOf.push_back({e.name, e.parameterGroup.empty() ? std::vector<std::string>{}
-                                                          : std::vector<std::string>{e.parameterGroup}});
+                                                         : std::vector<std::string>{e.parameterGroup}});
   return s;
 }
 
@@ -647,7 +646,9 @@ const std::vector<Selector>& selectors() {
   static const std::vector<Selector> all = {
       methodSelector({"solver"}, pressureSolverRegistry()),
       methodSelector({"surface"}, surfacingMethodRegistry()),
-      {{"time"}, "dt_mode", {{"fixed", {"dt"}}, {"cfl", {"cfl_factor", "viscous_factor", "dt_min", "dt_max"}}}},
+      {{"time"},
+       "dt_mode",
+       {{"fixed", {"dt"}}, {"cfl", {"cfl_factor", "viscous_factor", "dt_min", "dt_max"}}}},
       {{"fluid"},
        "viscosity_model",
        {{"none", {}}, {"laplacian", {"viscosity"}}, {"artificial", {"artificial_viscosity"}}}},
@@ -688,14 +689,14 @@ void migrateSceneJson(Json& raw, const std::string& source) {
     const Json::json_pointer oldPtr(from), newPtr(to);
     if (!raw.contains(oldPtr)) continue;
     if (raw.contains(newPtr))
-      throw InputError(fmt::format("{}: {}: given both here and at its new place {}; keep only {}", source, from,
-                                   to, to));
+      throw InputError(
+          fmt::format("{}: {}: given both here and at its new place {}; keep only {}", source, from, to, to));
     const Json::json_pointer parent = newPtr.parent_pointer();
     if (raw.contains(parent) && !raw[parent].is_object()) continue;  // the schema reports the bad parent
     raw[newPtr] = raw[oldPtr];
     raw[oldPtr.parent_pointer()].erase(oldPtr.back());
-    logWarning(fmt::format("{}: {} has moved to {}; it is read from there now (update the file)", source, from,
-                           to));
+    logWarning(
+        fmt::format("{}: {} has moved to {}; it is read from there now (update the file)", source, from, to));
   }
 }
 

@@ -9,8 +9,8 @@
 #include <cstring>
 
 #include "sphfx/core/error.h"
-#include "sphfx/gpu/gl.h"
 #include "sphfx/core/log.h"
+#include "sphfx/gpu/gl.h"
 
 namespace sphfx {
 namespace {

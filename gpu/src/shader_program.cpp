@@ -18,9 +18,10 @@ std::string_view shaderSource(const ShaderTable& stage, std::string_view name) {
   for (const ShaderTable* table : {&stage, &gpuShaderTable()})
     for (const auto& s : *table)
       if (s.name == name) return s.source;
-  throw GLError(fmt::format("shader file \"{}\" is not embedded by this stage (is it under shaders/ with the "
-                            "stage's prefix?)",
-                            name));
+  throw GLError(
+      fmt::format("shader file \"{}\" is not embedded by this stage (is it under shaders/ with the "
+                  "stage's prefix?)",
+                  name));
 }
 
 ShaderDefines& ShaderDefines::set(const std::string& name, const std::string& value) {

@@ -10,13 +10,13 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "renderer.h"
 #include "sphfx/core/error.h"
-#include "sphfx/gpu/gl.h"
 #include "sphfx/core/log.h"
 #include "sphfx/core/manifest.h"
 #include "sphfx/core/mesh_io.h"
 #include "sphfx/core/particle_cache.h"
-#include "renderer.h"
+#include "sphfx/gpu/gl.h"
 
 extern char** environ;
 

@@ -6,14 +6,14 @@
 #include <cmath>
 #include <limits>
 
+#include "gpu_layouts.h"
+#include "render_shaders.h"
 #include "sphfx/core/error.h"
 #include "sphfx/gpu/gl.h"
 #include "sphfx/gpu/gl_context.h"
 #include "sphfx/gpu/gpu_buffer.h"
 #include "sphfx/gpu/gpu_layout.h"
 #include "sphfx/gpu/shader_program.h"
-#include "gpu_layouts.h"
-#include "render_shaders.h"
 
 namespace sphfx::render {
 

@@ -9,10 +9,10 @@
 #include <string>
 #include <vector>
 
-#include "sphfx/core/mesh_io.h"
-#include "sphfx/core/scene.h"
 #include "camera.h"
 #include "image_io.h"
+#include "sphfx/core/mesh_io.h"
+#include "sphfx/core/scene.h"
 
 namespace sphfx::render {
 

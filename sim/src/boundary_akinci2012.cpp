@@ -5,9 +5,9 @@
 #include <numbers>
 
 #include "bindings.h"
-#include "sphfx/gpu/gl.h"
 #include "gpu_types.h"
 #include "sim_shaders.h"
+#include "sphfx/gpu/gl.h"
 
 namespace sphfx::sim {
 namespace {

@@ -13,11 +13,11 @@
 #include <memory>
 #include <vector>
 
-#include "sphfx/gpu/gpu_buffer.h"
-#include "sphfx/core/scene.h"
-#include "sphfx/gpu/shader_program.h"
 #include "dispatch_gate.h"
 #include "neighbor_grid.h"
+#include "sphfx/core/scene.h"
+#include "sphfx/gpu/gpu_buffer.h"
+#include "sphfx/gpu/shader_program.h"
 
 namespace sphfx::sim {
 

@@ -13,8 +13,8 @@
 #include <string>
 #include <thread>
 
-#include "sphfx/core/particle_cache.h"
 #include "simulator.h"
+#include "sphfx/core/particle_cache.h"
 
 namespace sphfx::sim {
 

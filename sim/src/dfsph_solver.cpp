@@ -8,11 +8,11 @@
 #include <numbers>
 
 #include "bindings.h"
+#include "gpu_types.h"
+#include "sim_shaders.h"
 #include "sphfx/core/error.h"
 #include "sphfx/gpu/gl.h"
 #include "sphfx/gpu/gl_context.h"
-#include "gpu_types.h"
-#include "sim_shaders.h"
 
 namespace sphfx::sim {
 namespace {
@@ -121,8 +121,10 @@ DFSPHSolver::DFSPHSolver(const Scene& scene, const DispatchGate& gate, const Sha
       neighbors_(size_t(std::max<uint32_t>(particles, 1)) * 16 * size_t(listSlots_ + 1)),
       boundary_(size_t(std::max<uint32_t>(particles, 1)) * 16),
       count_(size_t(std::max<uint32_t>(particles, 1)) * 4),
-      factor_(ShaderProgram::compute(simShaderTable(), "sim_dfsph_factor.comp", factorDefines(scene, defines))),
-      nonPressure_(ShaderProgram::compute(simShaderTable(), "sim_dfsph_nonpressure.comp", nonPressureDefines(settings_, defines))) {
+      factor_(
+          ShaderProgram::compute(simShaderTable(), "sim_dfsph_factor.comp", factorDefines(scene, defines))),
+      nonPressure_(ShaderProgram::compute(simShaderTable(), "sim_dfsph_nonpressure.comp",
+                                          nonPressureDefines(settings_, defines))) {
   checkListFitsTextureView();
   density_ = makeSolve(defines, false, 0);
   divergence_ = makeSolve(defines, true, 3 * DispatchGate::kParticleEntry);

@@ -1,9 +1,9 @@
 #include "dispatch_gate.h"
 
 #include "bindings.h"
+#include "gpu_types.h"
 #include "sphfx/gpu/gl.h"
 #include "sphfx/gpu/gl_context.h"
-#include "gpu_types.h"
 
 namespace sphfx::sim {
 

@@ -94,7 +94,7 @@ SimParams makeSimParams(const Scene& scene, uint32_t particles, uint32_t boundar
   p.step[1] = float(scene.time.viscousFactor);
   // z: the acceleration bound's factor, Monaghan's force criterion (WCSPH) or the fall bound (DFSPH).
   p.step[2] = float(scene.solver.method == Solver::DFSPH ? scene.solver.dfsph.fallFactor
-                                                          : scene.solver.wcsph.forceFactor);
+                                                         : scene.solver.wcsph.forceFactor);
   p.step[3] = fixed ? float(scene.time.dt) : 0.0f;
   p.limits[0] = float(scene.time.dtMin);
   p.limits[1] = float(scene.time.dtMax);

@@ -7,8 +7,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "sphfx/gpu/gpu_layout.h"
 #include "sphfx/core/scene.h"
+#include "sphfx/gpu/gpu_layout.h"
 #include "sphfx/gpu/shader_program.h"
 
 namespace sphfx::sim {

@@ -4,10 +4,10 @@
 #include <string>
 
 #include "bindings.h"
-#include "sphfx/core/error.h"
-#include "sphfx/gpu/gl.h"
 #include "gpu_types.h"
 #include "sim_shaders.h"
+#include "sphfx/core/error.h"
+#include "sphfx/gpu/gl.h"
 
 namespace sphfx::sim {
 

@@ -11,11 +11,11 @@
 #include <array>
 #include <cstdint>
 
-#include "sphfx/gpu/gpu_buffer.h"
-#include "sphfx/core/scene.h"
-#include "sphfx/gpu/shader_program.h"
 #include "dispatch_gate.h"
 #include "parallel_scan.h"
+#include "sphfx/core/scene.h"
+#include "sphfx/gpu/gpu_buffer.h"
+#include "sphfx/gpu/shader_program.h"
 
 namespace sphfx::sim {
 

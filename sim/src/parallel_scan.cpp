@@ -1,8 +1,8 @@
 #include "parallel_scan.h"
 
 #include "bindings.h"
-#include "sphfx/gpu/gl.h"
 #include "sim_shaders.h"
+#include "sphfx/gpu/gl.h"
 
 namespace sphfx::sim {
 

@@ -7,9 +7,9 @@
 #include <cstdint>
 #include <vector>
 
+#include "dispatch_gate.h"
 #include "sphfx/gpu/gpu_buffer.h"
 #include "sphfx/gpu/shader_program.h"
-#include "dispatch_gate.h"
 
 namespace sphfx::sim {
 

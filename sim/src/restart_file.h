@@ -10,8 +10,8 @@
 #include <optional>
 #include <string>
 
-#include "sphfx/core/scene.h"
 #include "simulator.h"
+#include "sphfx/core/scene.h"
 
 namespace sphfx::sim {
 

@@ -6,13 +6,13 @@
 #include <chrono>
 #include <filesystem>
 
+#include "cache_writer.h"
+#include "restart_file.h"
 #include "sphfx/core/error.h"
-#include "sphfx/gpu/gl.h"
 #include "sphfx/core/log.h"
 #include "sphfx/core/manifest.h"
 #include "sphfx/core/particle_cache.h"
-#include "cache_writer.h"
-#include "restart_file.h"
+#include "sphfx/gpu/gl.h"
 
 namespace sphfx::sim {
 namespace {
@@ -103,7 +103,7 @@ SimulationResult simulateShot(const Scene& scene, const SimulationOptions& o) {
     if (!resumed) s = ManifestJson::object();
     s["status"] = "running";
     s["scene"] = ManifestJson::parse(sceneToJson(scene).dump());
-    s["solver"] = scene.solver.method == Solver::WCSPH ? "wcsph" : "dfsph";
+    s["solver"] = methodEntry(pressureSolverRegistry(), scene.solver.method).name;
     s["particle_count"] = sim.particleCount();
     s["boundary_samples"] = sim.boundaryCount();
     s["gl_renderer"] = result.renderer;

@@ -9,18 +9,23 @@
 #include <limits>
 
 #include "bindings.h"
+#include "sim_shaders.h"
 #include "sphfx/core/error.h"
 #include "sphfx/gpu/gl.h"
 #include "sphfx/gpu/gl_context.h"
-#include "sim_shaders.h"
 
 namespace sphfx::sim {
 
 std::unique_ptr<PressureSolver> makePressureSolver(const Scene& scene, const DispatchGate& gate,
                                                    const ShaderDefines& defines) {
-  if (scene.solver.method == Solver::WCSPH) return std::make_unique<WCSPHSolver>(scene, gate, defines);
-  const auto particles = uint32_t(seedParticles(scene).position.size());
-  return std::make_unique<DFSPHSolver>(scene, gate, defines, particles);
+  switch (scene.solver.method) {  // one case per entry of pressureSolverRegistry()
+    case Solver::WCSPH:
+      return std::make_unique<WCSPHSolver>(scene, gate, defines);
+    case Solver::DFSPH:
+      return std::make_unique<DFSPHSolver>(scene, gate, defines, uint32_t(countInitialParticles(scene)));
+  }
+  throw InputError("solver.method: no implementation of \"" +
+                   methodEntry(pressureSolverRegistry(), scene.solver.method).name + "\" in this build");
 }
 
 namespace {
@@ -206,7 +211,7 @@ void Simulator::checkHealth(const SimState& s) const {
 }
 
 // Where the densest particle of the failed substep is: its position and the nearest wall of the domain
-// (the stops measured so far compressed against a wall, docs/accuracy.md "Known gaps"). Read back only on
+// (the stops measured so far compressed against a wall, docs/validation.md "Known limits"). Read back only on
 // failure; the density and sorted positions are those of the substep that failed (its later passes did not
 // run).
 std::string Simulator::whereDensest() const {

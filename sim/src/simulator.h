@@ -11,16 +11,16 @@
 #include <string>
 #include <vector>
 
-#include "sphfx/gpu/gpu_buffer.h"
-#include "sphfx/core/particle_cache.h"
-#include "sphfx/core/scene.h"
-#include "sphfx/sim/simulation.h"
 #include "boundary_akinci2012.h"
 #include "dfsph_solver.h"
 #include "dispatch_gate.h"
 #include "gpu_types.h"
 #include "neighbor_grid.h"
 #include "pass_timer.h"
+#include "sphfx/core/particle_cache.h"
+#include "sphfx/core/scene.h"
+#include "sphfx/gpu/gpu_buffer.h"
+#include "sphfx/sim/simulation.h"
 #include "symplectic_euler.h"
 #include "wcsph_solver.h"
 

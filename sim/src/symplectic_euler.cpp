@@ -1,8 +1,8 @@
 #include "symplectic_euler.h"
 
+#include "sim_shaders.h"
 #include "sphfx/gpu/gl.h"
 #include "sphfx/gpu/gl_context.h"
-#include "sim_shaders.h"
 
 namespace sphfx::sim {
 

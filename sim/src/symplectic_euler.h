@@ -4,10 +4,10 @@
 /// the GPU reductions, landing exactly on frame times, per-substep health) and the symplectic Euler
 /// integration with the last-resort wall and collider projection.
 
-#include "sphfx/core/scene.h"
-#include "sphfx/gpu/shader_program.h"
 #include "dispatch_gate.h"
 #include "pass_timer.h"
+#include "sphfx/core/scene.h"
+#include "sphfx/gpu/shader_program.h"
 
 namespace sphfx::sim {
 

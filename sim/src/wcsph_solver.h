@@ -9,11 +9,11 @@
 #include <utility>
 #include <vector>
 
-#include "sphfx/gpu/gpu_buffer.h"
-#include "sphfx/core/scene.h"
-#include "sphfx/gpu/shader_program.h"
 #include "dispatch_gate.h"
 #include "pass_timer.h"
+#include "sphfx/core/scene.h"
+#include "sphfx/gpu/gpu_buffer.h"
+#include "sphfx/gpu/shader_program.h"
 
 namespace sphfx::sim {
 

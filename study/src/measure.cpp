@@ -4,10 +4,10 @@
 
 #include <fmt/format.h>
 
+#include "metrics.h"
 #include "sphfx/core/error.h"
 #include "sphfx/core/frame_files.h"
 #include "sphfx/core/scene.h"
-#include "metrics.h"
 #include "sphfx/study/study.h"
 
 namespace fs = std::filesystem;

@@ -8,8 +8,8 @@
 #include <utility>
 #include <vector>
 
-#include "sphfx/core/particle_cache.h"
 #include "references.h"
+#include "sphfx/core/particle_cache.h"
 
 namespace sphfx::study {
 

@@ -9,9 +9,9 @@
 #include <map>
 #include <set>
 
+#include "metrics.h"
 #include "sphfx/core/frame_files.h"
 #include "sphfx/core/log.h"
-#include "metrics.h"
 
 namespace fs = std::filesystem;
 
@@ -243,9 +243,9 @@ void writeStudyReport(const StudySpec& spec, const std::vector<RunResult>& resul
                       bool plotted) {
   std::string md = fmt::format(
       "# Study: {}\n\nError against run time, {} runs. Errors are relative to the "
-      "independent references (see docs/accuracy.md); wall seconds are the simulator's "
-      "own figure for the whole run (context, compile, simulation, cache writing).\n\n",
-      spec.name, results.size());
+      "independent references (see docs/validation.md); wall seconds are the simulator's "
+      "own figure for the whole run (context, compile, simulation, cache writing).\n\n{}\n\n",
+      spec.name, results.size(), inputsDigestLine(studyInputsDigest(spec)));
   if (plotted) md += "![error against wall time](error_vs_time.png)\n\n";
   for (const StudyCase& c : spec.cases) {
     const auto runs = caseRuns(results, c.name);

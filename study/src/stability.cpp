@@ -6,11 +6,11 @@
 #include <fstream>
 #include <map>
 
+#include "metrics.h"
 #include "sphfx/core/error.h"
 #include "sphfx/core/frame_files.h"
 #include "sphfx/core/log.h"
 #include "sphfx/core/scene.h"
-#include "metrics.h"
 
 namespace fs = std::filesystem;
 
@@ -82,15 +82,7 @@ StabilityRun runCase(const StabilitySuite& suite, const StabilityCase& c, const 
   fs::remove_all(runDir);
   fs::create_directories(runDir);
 
-  const std::string base = (fs::path(suite.directory) / c.scene).string();
-  Json raw = schema::readJsonFile(base, "scene");
-  for (const auto& o : c.set) applyOverride(raw, o);
-  applyOverride(raw, "solver.method=" + solver);
-  if (dt > 0) {
-    applyOverride(raw, "time.dt_mode=fixed");
-    applyOverride(raw, fmt::format("time.dt={}", dt));
-  }
-  const Scene scene = parseScene(raw, base + " (stability case " + c.name + ")");
+  const Scene scene = resolveStabilityScene(suite, c, solver, dt);
   run.particles = countInitialParticles(scene);
   const std::string sceneFile = (runDir / "scene.json").string();
   writeTextAtomically(sceneFile, sceneToJson(scene).dump(2) + "\n");
@@ -129,9 +121,10 @@ void writeStabilityOutputs(const StabilitySuite& suite, bool quick, const Stabil
 
   std::string md = fmt::format(
       "# Stability suite: {}{}\n\n{} runs; failed: {}; stopped although the case must "
-      "stay stable: {}.\n\n| case | solver | particles | status | wall s | note |\n"
+      "stay stable: {}.\n\n{}\n\n| case | solver | particles | status | wall s | note |\n"
       "|---|---|---|---|---|---|\n",
-      suite.name, quick ? " (quick set)" : "", report.runs.size(), report.failed, report.unexpected);
+      suite.name, quick ? " (quick set)" : "", report.runs.size(), report.failed, report.unexpected,
+      inputsDigestLine(stabilityInputsDigest(suite, quick)));
   for (const auto& r : report.runs)
     if (r.fixedDt == 0)
       md += fmt::format("| {} | {} | {} | {} | {:.1f} | {} |\n", r.caseName, r.solver, r.particles,
@@ -173,8 +166,23 @@ StabilitySuite loadStabilitySuite(const std::string& path) {
   return suite;
 }
 
-StabilityReport runStabilitySuite(const StabilitySuite& suite, bool quick, const std::string& outDir,
-                                  const StudyOptions& options) {
+Scene resolveStabilityScene(const StabilitySuite& suite, const StabilityCase& c, const std::string& solver,
+                            double dt) {
+  const std::string base = (fs::path(suite.directory) / c.scene).string();
+  Json raw = schema::readJsonFile(base, "scene");
+  for (const auto& o : c.set) applyOverride(raw, o);
+  applyOverride(raw, "solver.method=" + solver);
+  if (dt > 0) {
+    applyOverride(raw, "time.dt_mode=fixed");
+    applyOverride(raw, fmt::format("time.dt={}", dt));
+  }
+  return parseScene(raw, base + " (stability case " + c.name + ")");
+}
+
+namespace {
+/// Every (case, solver, fixed dt or 0) the suite runs, in order.
+std::vector<std::tuple<const StabilityCase*, std::string, double>> stabilityPlan(const StabilitySuite& suite,
+                                                                                 bool quick) {
   std::vector<std::tuple<const StabilityCase*, std::string, double>> plan;
   for (const auto& c : suite.cases) {
     if (quick && !c.quick) continue;
@@ -184,6 +192,21 @@ StabilityReport runStabilitySuite(const StabilitySuite& suite, bool quick, const
         for (const auto& dt : suite.dtSweep) plan.emplace_back(&c, solver, dt.get<double>());
     }
   }
+  return plan;
+}
+}  // namespace
+
+std::string stabilityInputsDigest(const StabilitySuite& suite, bool quick) {
+  std::string text = suite.name + (quick ? " quick\n" : "\n");
+  for (const auto& [c, solver, dt] : stabilityPlan(suite, quick))
+    text += fmt::format("{} {} {}\n{}\n", c->name, solver, dt,
+                        sceneToJson(resolveStabilityScene(suite, *c, solver, dt)).dump());
+  return fnv1aHex(text);
+}
+
+StabilityReport runStabilitySuite(const StabilitySuite& suite, bool quick, const std::string& outDir,
+                                  const StudyOptions& options) {
+  const auto plan = stabilityPlan(suite, quick);
   StabilityReport report;
   Progress progress("stability", int64_t(plan.size()));
   std::map<std::pair<std::string, std::string>, bool> sweepDone;

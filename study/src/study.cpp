@@ -9,16 +9,25 @@
 #include <fstream>
 #include <set>
 
+#include "metrics.h"
+#include "report.h"
 #include "sphfx/core/error.h"
 #include "sphfx/core/frame_files.h"
 #include "sphfx/core/log.h"
 #include "sphfx/core/scene.h"
-#include "metrics.h"
-#include "report.h"
 
 namespace fs = std::filesystem;
 
 namespace sphfx::study {
+
+std::string fnv1aHex(const std::string& text) {
+  uint64_t h = 1469598103934665603ull;
+  for (unsigned char c : text) {
+    h ^= c;
+    h *= 1099511628211ull;
+  }
+  return fmt::format("{:016x}", h);
+}
 namespace {
 
 /// A value as --set takes it: strings bare, everything else as JSON.
@@ -58,6 +67,18 @@ std::vector<GridPoint> gridPoints(const StudyCase& c) {
     points = std::move(next);
   }
   return points;
+}
+
+std::string inputsDigestLine(const std::string& digest) {
+  return "<!-- inputs digest: " + digest + " -->";
+}
+
+std::string studyInputsDigest(const StudySpec& spec) {
+  std::string text = spec.name + "\n";
+  for (const StudyCase& c : spec.cases)
+    for (const GridPoint& point : gridPoints(c))
+      text += c.name + "\n" + sceneToJson(resolveRunScene(spec, c, point)).dump() + "\n";
+  return fnv1aHex(text);
 }
 
 Scene resolveRunScene(const StudySpec& spec, const StudyCase& c, const GridPoint& point) {

@@ -1,7 +1,7 @@
 #pragma once
 // The anisotropic functions with their instruction set chosen (internal: for the tests that compare them).
-#include "simd.h"
 #include "anisotropic.h"
+#include "simd.h"
 
 namespace sphfx::surfacing {
 

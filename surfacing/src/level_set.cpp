@@ -13,9 +13,9 @@
 #include <mutex>
 #include <string>
 
+#include "anisotropic.h"
 #include "face_neighbours.h"
 #include "sphfx/core/error.h"
-#include "anisotropic.h"
 #include "sphfx/surfacing/surfacing.h"
 #include "zhu_bridson.h"
 

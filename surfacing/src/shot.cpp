@@ -112,8 +112,8 @@ std::vector<std::string> methodNames() {
 SurfaceMethod parseMethod(const std::string& name) {
   for (const auto& e : surfacingMethodRegistry())
     if (e.name == name) return e.id;
-  throw InputError(fmt::format("surface: --method: expected one of {}, got \"{}\"", fmt::join(methodNames(), ", "),
-                               name));
+  throw InputError(
+      fmt::format("surface: --method: expected one of {}, got \"{}\"", fmt::join(methodNames(), ", "), name));
 }
 
 SurfaceParams resolveParams(double spacing, const SurfaceSettings& settings, const SurfaceOverrides& o) {

@@ -155,14 +155,16 @@ TEST(Scene, PackingCompressesTheInitialLattice) {
 TEST(Scene, AParameterNothingReadsIsAnError) {
   Json raw = minimal();  // WCSPH, CFL steps, artificial viscosity
   raw["solver"]["dfsph"]["max_iterations"] = 300;
-  EXPECT_EQ(errorOf(raw),
-            "x.json: /solver/dfsph: not read with these settings (only when the method is \"dfsph\"); remove it");
+  EXPECT_EQ(
+      errorOf(raw),
+      "x.json: /solver/dfsph: not read with these settings (only when the method is \"dfsph\"); remove it");
   raw = minimal();
   raw["time"]["dt"] = 0.001;
   EXPECT_EQ(errorOf(raw), "x.json: /time/dt: not read with these settings (fixed mode); remove it");
   raw = minimal();
   raw["fluid"]["viscosity"] = 1e-6;
-  EXPECT_EQ(errorOf(raw), "x.json: /fluid/viscosity: not read with these settings (laplacian model); remove it");
+  EXPECT_EQ(errorOf(raw),
+            "x.json: /fluid/viscosity: not read with these settings (laplacian model); remove it");
   raw = minimal();
   raw["solver"]["wcsph"]["eos"] = "linear";
   raw["solver"]["wcsph"]["gamma"] = 7;
@@ -183,7 +185,8 @@ TEST(Scene, MovedKeysStillLoadAtTheirNewPlace) {
   EXPECT_EQ(s.solver.dfsph.maxIterations, 300);
   EXPECT_DOUBLE_EQ(s.solver.dfsph.fallFactor, 0.3);
   raw["solver"]["dfsph"]["max_iterations"] = 100;  // both places: which one is meant?
-  EXPECT_NE(errorOf(raw).find("/solver/max_iterations: given both here and at its new place"), std::string::npos);
+  EXPECT_NE(errorOf(raw).find("/solver/max_iterations: given both here and at its new place"),
+            std::string::npos);
 
   raw = minimal();
   applyOverride(raw, "solver.eos=linear");  // an old --set path moves too
@@ -221,13 +224,15 @@ TEST(Scene, MethodEnumsAndDocsComeFromTheRegistries) {
     Json raw = minimal();
     raw["solver"]["method"] = e.name;
     EXPECT_EQ(parseScene(raw, "x.json").solver.method, e.id);
-    if (!e.parameterGroup.empty()) EXPECT_NE(doc.find("`solver." + e.parameterGroup + "`"), std::string::npos);
+    if (!e.parameterGroup.empty())
+      EXPECT_NE(doc.find("`solver." + e.parameterGroup + "`"), std::string::npos);
   }
   for (const auto& e : surfacingMethodRegistry()) {
     EXPECT_NE(doc.find("\"" + e.name + "\": " + e.description), std::string::npos) << e.name;
     Json raw = minimal();
     raw["surface"]["method"] = e.name;
     EXPECT_EQ(parseScene(raw, "x.json").surface.method, e.id);
-    if (!e.parameterGroup.empty()) EXPECT_NE(doc.find("`surface." + e.parameterGroup + "`"), std::string::npos);
+    if (!e.parameterGroup.empty())
+      EXPECT_NE(doc.find("`surface." + e.parameterGroup + "`"), std::string::npos);
   }
 }

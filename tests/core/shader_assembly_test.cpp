@@ -33,11 +33,13 @@ TEST(ShaderAssembly, OrderAndDefines) {
 TEST(ShaderAssembly, TheGpuLayerEmbedsTheSharedIncludesOnly) {
   std::vector<std::string> names;
   for (const auto& e : gpuShaderTable()) names.emplace_back(e.name);
-  for (const char* shared : {"bindings.h", "sim_bindings.h", "render_bindings.h", "common.glsl", "selftest.comp"})
+  for (const char* shared :
+       {"bindings.h", "sim_bindings.h", "render_bindings.h", "common.glsl", "selftest.comp"})
     EXPECT_NE(std::find(names.begin(), names.end(), shared), names.end()) << shared;
   for (const auto& n : names) {
     EXPECT_NE(n.rfind("sim_", 0) == 0 && n != "sim_bindings.h", true) << n << " belongs to the sim stage";
-    EXPECT_NE(n.rfind("render_", 0) == 0 && n != "render_bindings.h", true) << n << " belongs to the renderer";
+    EXPECT_NE(n.rfind("render_", 0) == 0 && n != "render_bindings.h", true)
+        << n << " belongs to the renderer";
   }
   EXPECT_THROW(shaderSource(gpuShaderTable(), "missing.comp"), GLError);
 }

@@ -21,8 +21,8 @@
 #include <vector>
 
 #include "bindings.h"
-#include "gpu_layout_check.h"
 #include "dfsph_solver.h"
+#include "gpu_layout_check.h"
 #include "gpu_layouts.h"
 #include "gpu_types.h"
 #include "render_shaders.h"

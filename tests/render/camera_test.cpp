@@ -3,8 +3,8 @@
 
 #include <cmath>
 
-#include "sphfx/core/error.h"
 #include "camera.h"
+#include "sphfx/core/error.h"
 #include "sphfx/render/render_shot.h"
 
 using namespace sphfx;

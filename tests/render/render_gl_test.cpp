@@ -10,9 +10,9 @@
 #include <random>
 
 #include "../core/gpu_layout_check.h"
-#include "render_test_util.h"
 #include "gpu_layouts.h"
 #include "render_shaders.h"
+#include "render_test_util.h"
 
 using namespace sphfx;
 using namespace sphfx::render;

@@ -115,7 +115,7 @@ std::ostream& operator<<(std::ostream& os, const Diff& d) {
   return os << "mean " << d.mean << ", max (within a pixel) " << d.max;
 }
 
-// Regression thresholds (docs/rendering.md "Image regression thresholds"), in 8-bit levels. Measured on
+// Regression thresholds (docs/rendering.md "Tests"), in 8-bit levels. Measured on
 // the tiny dam-break frame against its 4x MSAA references (particles / surface):
 //  - egl-surfaceless vs osmesa: bit-identical (mean 0, max 0).
 //  - the same frame at 1 sample, a harsher change than llvmpipe vs a GPU (both use the standard 4x

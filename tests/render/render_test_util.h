@@ -7,8 +7,8 @@
 #include <memory>
 #include <string>
 
-#include "sphfx/gpu/gl_context.h"
 #include "renderer.h"
+#include "sphfx/gpu/gl_context.h"
 
 namespace sphfx::test {
 

@@ -6,12 +6,12 @@
 #include <algorithm>
 #include <cmath>
 
+#include "gpu_types.h"
+#include "sim_shaders.h"
 #include "sim_test_util.h"
+#include "simulator.h"
 #include "sphfx/gpu/gl.h"
 #include "sphfx/gpu/shader_program.h"
-#include "gpu_types.h"
-#include "simulator.h"
-#include "sim_shaders.h"
 
 using namespace sphfx;
 

@@ -15,16 +15,16 @@
 #include <string>
 #include <vector>
 
-#include "sim_test_util.h"
-#include "sphfx/gpu/gl_context.h"
-#include "sphfx/core/particle_cache.h"
-#include "sphfx/core/scene.h"
 #include "dfsph_solver.h"
-#include "sphfx/sim/simulation.h"
-#include "simulator.h"
 #include "metrics.h"
 #include "references.h"
 #include "sim_shaders.h"
+#include "sim_test_util.h"
+#include "simulator.h"
+#include "sphfx/core/particle_cache.h"
+#include "sphfx/core/scene.h"
+#include "sphfx/gpu/gl_context.h"
+#include "sphfx/sim/simulation.h"
 
 namespace sphfx::sim {
 namespace {
@@ -101,8 +101,8 @@ FactorLists runFactorPass(const Scene& scene, const std::vector<std::array<float
   boundary.bindStorage(SPHFX_SSBO_SIM_DFSPH_BOUNDARY);
   count.bindStorage(SPHFX_SSBO_SIM_DFSPH_COUNT);
   accel.bindStorage(SPHFX_SSBO_SIM_ACCEL);  // the walls' hydrostatic push (none here)
-  const ShaderProgram factor = ShaderProgram::compute(simShaderTable(), 
-      "sim_dfsph_factor.comp", DFSPHSolver::factorDefines(scene, simShaderDefines(scene)));
+  const ShaderProgram factor = ShaderProgram::compute(
+      simShaderTable(), "sim_dfsph_factor.comp", DFSPHSolver::factorDefines(scene, simShaderDefines(scene)));
   factor.use();
   glMemoryBarrier(GL_ALL_BARRIER_BITS);
   dispatchCompute1D(factor, n, "sim_dfsph_factor.comp");
@@ -191,9 +191,9 @@ TEST_F(DFSPH, NeighbourListsMatchBruteForce) {
 // densities near rest density, pressure growing with depth like rho0 g (H - y), (almost) no particle
 // below the free-surface rows pressed into a wall (the resting first layer sits half a spacing from
 // it), the tank (nearly) at rest.
-// Tolerances are what this implementation reaches at CI resolution (docs/accuracy.md, "DFSPH"). At the
-// default divergence tolerance 1e-3 per step, a warm start from the full last stiffness totals (instead of
-// DFSPHSolver's shares) lets the tank jitter (max speed 0.44-0.62 m/s, pressure 3x rho0 g (H - y)).
+// Tolerances are what this implementation reaches at CI resolution (docs/validation.md, "Physics tests"). At
+// the default divergence tolerance 1e-3 per step, a warm start from the full last stiffness totals (instead
+// of DFSPHSolver's shares) lets the tank jitter (max speed 0.44-0.62 m/s, pressure 3x rho0 g (H - y)).
 TEST_F(DFSPH, HydrostaticTankReachesRestDensityAndPressureProfile) {
   const Scene s = scene("hydrostatic.json", {"fluid.spacing=0.02", "time.end_frame=25"});
   Simulator sim(s);
@@ -223,7 +223,7 @@ TEST_F(DFSPH, HydrostaticTankReachesRestDensityAndPressureProfile) {
       interior, pLow / nLow, refLow / nLow, pHigh / nHigh, refHigh / nHigh, e.pressureL2);
   EXPECT_LT(std::abs(interior), 0.025) << "interior mean density error";
   EXPECT_GT(pLow / nLow, pHigh / nHigh) << "pressure must grow with depth";
-  // Measured since the walls push with mirrored and hydrostatically extrapolated stiffness (docs/dfsph.md,
+  // Measured since the walls push with mirrored and hydrostatically extrapolated stiffness (docs/design.md,
   // "Walls"): 0.99 and 0.98 x rho0 g (H - y), L2 0.24. With the particle's own stiffness only (Akinci
   // 2012, as SPlisHSPlasH's DFSPH): 1.21 and 1.07 x, L2 0.61, the bottom layer pressed into the floor.
   EXPECT_NEAR(pLow / nLow, refLow / nLow, 0.25 * refLow / nLow) << "bottom rows vs rho0 g (H - y)";
@@ -271,9 +271,9 @@ TEST_F(DFSPH, WallsKeepTheRestingLatticeAtRestDensity) {
 TEST_F(DFSPH, DivergenceSolveMeetsItsTolerance) {
   // 2e-4 per step, 5x stricter than the default, so that the solve has to iterate (at 1e-4 a few solves of
   // this tank stop at 100 iterations with 1.04e-4 and 1.19e-4: the relaxed Jacobi iteration converges
-  // slowly at dt_max = 0.005 s; docs/accuracy.md).
-  const Scene s = scene("hydrostatic.json",
-                        {"fluid.spacing=0.02", "time.end_frame=10", "solver.dfsph.max_divergence_error=2e-4"});
+  // slowly at dt_max = 0.005 s; docs/validation.md).
+  const Scene s = scene("hydrostatic.json", {"fluid.spacing=0.02", "time.end_frame=10",
+                                             "solver.dfsph.max_divergence_error=2e-4"});
   Simulator sim(s);
   while (sim.frame() < s.time.endFrame) {
     const FrameStats f = sim.advance();
@@ -283,7 +283,7 @@ TEST_F(DFSPH, DivergenceSolveMeetsItsTolerance) {
 }
 
 // From rest the CFL condition on |v| alone allows any step; the step's displacement |v| dt + |a| dt^2 must
-// stay within cfl * spacing (docs/dfsph.md, "Time step from rest"), so the first step of a resting column
+// stay within cfl * spacing (docs/simulation.md, "Time step"), so the first step of a resting column
 // under gravity is sqrt(cfl * d / g) however large dt_max is, and no later step of the frame is larger.
 TEST_F(DFSPH, FirstStepFromRestIsBoundedByTheFallDisplacement) {
   const Scene s = scene("dam_break.json", {"fluid.spacing=0.02", "time.fps=10", "time.end_frame=2",
@@ -314,11 +314,13 @@ TEST_F(DFSPH, FirstStepsFromRestMeetTheDensityTolerance) {
 
 // The displacement bound alone (solver.dfsph.fall_factor 0.4 = cfl, SPlisHSPlasH's rule) lets the default dam
 // break's first step from rest be half a 30 fps frame, 16.7 ms: more than 20x the seed's 0.7 ms. Before the
-// mirrored walls this step blew up the floor-wall corner (862 particles above 3 m/s in frame 2, docs/dfsph.md
-// "Time step from rest"). Now every solve of the first 0.1 s ends within its tolerance, and no particle is
-// faster than a fall through the column's whole height, sqrt(2 g H) (measured: 1.60 m/s at 0.1 s).
+// mirrored walls this step blew up the floor-wall corner (862 particles above 3 m/s in frame 2,
+// docs/design.md "Time step from rest"). Now every solve of the first 0.1 s ends within its tolerance, and no
+// particle is faster than a fall through the column's whole height, sqrt(2 g H) (measured: 1.60 m/s at 0.1
+// s).
 TEST_F(DFSPH, FrameSizedFirstStepAtTheDefaultSpacingStaysBounded) {
-  const Scene s = scene("dam_break.json", {"time.end_frame=4", "time.dt_max=0.02", "solver.dfsph.fall_factor=0.4"});
+  const Scene s =
+      scene("dam_break.json", {"time.end_frame=4", "time.dt_max=0.02", "solver.dfsph.fall_factor=0.4"});
   ASSERT_DOUBLE_EQ(s.fluid.spacing, 0.01);
   Simulator sim(s);
   double largest = 0;
@@ -341,10 +343,10 @@ TEST_F(DFSPH, FrameSizedFirstStepAtTheDefaultSpacingStaysBounded) {
   EXPECT_LT(fastest, fall) << "a particle faster than a fall through the whole column";
 }
 
-// Heavy-ball momentum (solver.dfsph.jacobi_momentum, docs/dfsph.md "Momentum") accelerates the iterations but
-// solves the same system: on the first frame of the default dam break from rest (four steps that build
-// the column's pressure from zero) it needs at most 70 % of plain Jacobi's iterations (measured: 51 %),
-// every solve ends within tolerance, and the pressures of the two runs agree per particle to within
+// Heavy-ball momentum (solver.dfsph.jacobi_momentum, docs/design.md "DFSPH solver") accelerates the
+// iterations but solves the same system: on the first frame of the default dam break from rest (four steps
+// that build the column's pressure from zero) it needs at most 70 % of plain Jacobi's iterations (measured:
+// 51 %), every solve ends within tolerance, and the pressures of the two runs agree per particle to within
 // what two solves stopped at a 0.1 % density tolerance can differ by (measured: 2.9 %).
 TEST_F(DFSPH, MomentumSolvesTheSameSystemInFewerIterations) {
   struct Run {
@@ -352,9 +354,9 @@ TEST_F(DFSPH, MomentumSolvesTheSameSystemInFewerIterations) {
     std::vector<float> pressure;  // by particle id
   };
   auto run = [](const std::string& momentum) {
-    const Scene s =
-        scene("dam_break.json", {"time.end_frame=2", "time.dt_max=0.02", "solver.dfsph.jacobi_momentum=" + momentum,
-                                 R"(cache.attributes=["pressure","id"])"});
+    const Scene s = scene("dam_break.json",
+                          {"time.end_frame=2", "time.dt_max=0.02", "solver.dfsph.jacobi_momentum=" + momentum,
+                           R"(cache.attributes=["pressure","id"])"});
     Simulator sim(s);
     const FrameStats f = sim.advance();
     EXPECT_LE(stat(f, "density_error_max"), s.solver.dfsph.maxDensityError) << "momentum " << momentum;
@@ -389,7 +391,8 @@ TEST_P(DFSPHAtCfl, DamBreakAtLargeTimeStepMatchesMartinMoyce) {
   const Scene s =
       scene("dam_break.json", {"fluid.spacing=0.02", "time.fps=60", "time.end_frame=22", "time.dt_max=0.02",
                                fmt::format("time.cfl_factor={}", GetParam())});
-  const study::Table ref = study::MartinMoyce::load(std::string(SPHFX_SOURCE_DIR) + "/studies/reference").front;
+  const study::Table ref =
+      study::MartinMoyce::load(std::string(SPHFX_SOURCE_DIR) + "/studies/reference").front;
   Simulator sim(s);
   const double a = 0.2, g = 9.81;
   std::vector<double> T, Z;

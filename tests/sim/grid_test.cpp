@@ -11,13 +11,13 @@
 
 #include "../core/gpu_layout_check.h"
 #include "bindings.h"
-#include "sim_test_util.h"
-#include "sphfx/core/error.h"
-#include "sphfx/gpu/gl.h"
 #include "gpu_types.h"
 #include "neighbor_grid.h"
 #include "parallel_scan.h"
 #include "sim_shaders.h"
+#include "sim_test_util.h"
+#include "sphfx/core/error.h"
+#include "sphfx/gpu/gl.h"
 
 using namespace sphfx;
 using Vec4 = std::array<float, 4>;

@@ -4,10 +4,10 @@
 
 #include <cmath>
 
-#include "sim_test_util.h"
-#include "sphfx/core/scene.h"
 #include "boundary_akinci2012.h"
 #include "gpu_types.h"
+#include "sim_test_util.h"
+#include "sphfx/core/scene.h"
 
 using namespace sphfx;
 

@@ -17,14 +17,14 @@
 #include <fmt/format.h>
 
 #include "bindings.h"
-#include "sim_test_util.h"
-#include "sphfx/core/error.h"
-#include "sphfx/gpu/gl.h"
 #include "boundary_akinci2012.h"
 #include "gpu_types.h"
-#include "neighbor_grid.h"
-#include "simulator.h"
 #include "metrics.h"
+#include "neighbor_grid.h"
+#include "sim_test_util.h"
+#include "simulator.h"
+#include "sphfx/core/error.h"
+#include "sphfx/gpu/gl.h"
 
 using namespace sphfx;
 using Vec4 = std::array<float, 4>;

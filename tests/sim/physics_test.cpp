@@ -7,8 +7,8 @@
 #include <fstream>
 #include <sstream>
 
-#include "sim_test_util.h"
 #include "gpu_types.h"
+#include "sim_test_util.h"
 #include "simulator.h"
 
 using namespace sphfx;
@@ -127,7 +127,7 @@ std::vector<std::pair<double, double>> readMartinMoyce() {
 TEST(Physics, DamBreakFrontFollowsMartinMoyce) {
   auto ctx = test::makeContext();
   const auto reference = readMartinMoyce();
-  ASSERT_GE(reference.size(), 10u) << "missing ../shared/reference/dam_break_martin_moyce_n2.csv";
+  ASSERT_GE(reference.size(), 10u) << "missing studies/reference/dam_break_martin_moyce_n2.csv";
   // CI resolution: a = 0.2 m, spacing a/10 (2000 particles), 60 fps for a finely sampled front.
   const Scene scene = loadScene(std::string(SPHFX_SOURCE_DIR) + "/scenes/dam_break.json",
                                 {"fluid.spacing=0.02", "time.fps=60", "time.end_frame=22"});

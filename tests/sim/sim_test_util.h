@@ -14,16 +14,16 @@
 #include <vector>
 
 #include "bindings.h"
-#include "sphfx/gpu/gl.h"
-#include "sphfx/gpu/gl_context.h"
-#include "sphfx/gpu/gpu_buffer.h"
-#include "sphfx/core/particle_cache.h"
-#include "sphfx/core/scene.h"
-#include "sphfx/gpu/shader_program.h"
 #include "dispatch_gate.h"
 #include "gpu_types.h"
 #include "neighbor_grid.h"
 #include "sim_shaders.h"
+#include "sphfx/core/particle_cache.h"
+#include "sphfx/core/scene.h"
+#include "sphfx/gpu/gl.h"
+#include "sphfx/gpu/gl_context.h"
+#include "sphfx/gpu/gpu_buffer.h"
+#include "sphfx/gpu/shader_program.h"
 
 namespace sphfx::test {
 
@@ -64,7 +64,8 @@ inline std::vector<std::pair<uint32_t, std::set<uint32_t>>> gpuNeighbours(
   sorted.bindStorage(SPHFX_SSBO_SIM_POS);
   grid.rowStart().bindStorage(SPHFX_SSBO_SIM_CELL_START);
   out.bindStorage(SPHFX_SSBO_SIM_GRID_NEIGHBORS);
-  ShaderProgram program = ShaderProgram::compute(simShaderTable(), "sim_grid_neighbors.comp", sim::simShaderDefines(scene));
+  ShaderProgram program =
+      ShaderProgram::compute(simShaderTable(), "sim_grid_neighbors.comp", sim::simShaderDefines(scene));
   program.use();
   glUniform1ui(program.uniform("uMaxNeighbors"), maxN);
   glMemoryBarrier(GL_ALL_BARRIER_BITS);

@@ -3,8 +3,8 @@
 
 #include <cmath>
 
-#include "sphfx/core/error.h"
 #include "metrics.h"
+#include "sphfx/core/error.h"
 
 using namespace sphfx;
 using namespace sphfx::study;

@@ -4,8 +4,8 @@
 
 #include <cmath>
 
-#include "sphfx/core/error.h"
 #include "references.h"
+#include "sphfx/core/error.h"
 
 using namespace sphfx::study;
 

@@ -10,10 +10,10 @@
 #include <numbers>
 #include <random>
 
+#include "anisotropic.h"
 #include "anisotropic_isa.h"
 #include "band_distance.h"
 #include "sphfx/core/scene.h"
-#include "anisotropic.h"
 #include "sphfx/surfacing/surfacing.h"
 #include "test_util.h"
 #include "zhu_bridson.h"

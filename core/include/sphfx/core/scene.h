@@ -62,8 +62,8 @@ struct Fluid {
 /// WCSPH's own parameters (solver.wcsph).
 struct WcsphSettings {
   EquationOfState eos = EquationOfState::Tait;
-  double stiffness = 0;  ///< linear EOS: p = k (rho - rho0), k in Pa / (kg/m^3) = m^2/s^2
-  double gamma = 7;      ///< Tait exponent
+  double stiffness = 0;    ///< linear EOS: p = k (rho - rho0), k in Pa / (kg/m^3) = m^2/s^2
+  double gamma = 7;        ///< Tait exponent
   double forceFactor = 0;  ///< CFL mode: factor on Monaghan's force limit sqrt(h / |a|max)
 };
 
@@ -133,10 +133,10 @@ struct CacheSettings {
 
 /// The anisotropic method's own parameters (surface.anisotropic; Yu & Turk 2013).
 struct AnisotropicSurfaceSettings {
-  double lambda = 0;          ///< Laplacian smoothing of the kernel centres
-  double maxStretch = 0;      ///< k_r: largest ratio between a kernel's axes
-  int isolatedBelow = 0;      ///< N_eps: fewer neighbours give a small isotropic kernel
-  double isolatedScale = 0;   ///< k_n: that kernel's support relative to the full one
+  double lambda = 0;         ///< Laplacian smoothing of the kernel centres
+  double maxStretch = 0;     ///< k_r: largest ratio between a kernel's axes
+  int isolatedBelow = 0;     ///< N_eps: fewer neighbours give a small isotropic kernel
+  double isolatedScale = 0;  ///< k_n: that kernel's support relative to the full one
 };
 
 struct SurfaceSettings {

@@ -338,7 +338,8 @@ class Object {
     for (const Check& c : checks_) c(out, j, path);
     for (const Field& f : fields_)
       if (f.applies && !f.applies(out) && j.contains(f.name))
-        throw SchemaError(childPath(path, f.name), "not read with these settings (" + f.note + "); remove it");
+        throw SchemaError(childPath(path, f.name),
+                          "not read with these settings (" + f.note + "); remove it");
   }
 
   /// The resolved JSON: every field, defaults filled in.

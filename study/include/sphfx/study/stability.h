@@ -50,6 +50,14 @@ struct StabilityReport {
   size_t unexpected = 0;  ///< runs that stopped although the case must stay stable
 };
 
+/// The scene of one run: the case's scene with its overrides, the solver, and a fixed `dt` if > 0.
+/// @throws InputError as loadScene.
+Scene resolveStabilityScene(const StabilitySuite& suite, const StabilityCase& c, const std::string& solver,
+                            double dt);
+
+/// As studyInputsDigest, for the suite's runs (the quick subset if `quick`).
+std::string stabilityInputsDigest(const StabilitySuite& suite, bool quick);
+
 /// Runs the suite (the quick subset if `quick`) into `outDir` and writes stability.csv and stability.md.
 StabilityReport runStabilitySuite(const StabilitySuite& suite, bool quick, const std::string& outDir,
                                   const StudyOptions& options);

@@ -57,6 +57,17 @@ std::vector<GridPoint> gridPoints(const StudyCase& studyCase);
 /// @throws InputError if the file is unreadable or the resulting scene is invalid (names case and path).
 Scene resolveRunScene(const StudySpec& spec, const StudyCase& studyCase, const GridPoint& point);
 
+/// A digest (16 hex digits, FNV-1a) of everything a study's report depends on besides the code: the
+/// study's name and every run's resolved scene, defaults included. The report states it, so a test can
+/// tell that a committed report no longer matches the shipped study (a scene, an axis or a default
+/// changed). @throws InputError as loadScene.
+std::string studyInputsDigest(const StudySpec& spec);
+
+/// "<!-- inputs digest: D -->": the line a report carries, and the one a staleness check looks for.
+std::string inputsDigestLine(const std::string& digest);
+/// FNV-1a 64 of `text`, as 16 hex digits.
+std::string fnv1aHex(const std::string& text);
+
 /// How one simulation ended.
 enum class RunStatus { Completed, StoppedCleanly, Failed };
 std::string toString(RunStatus s);

@@ -29,11 +29,11 @@ struct SurfaceParams {
   double particleSpacing = 0;  ///< the cache's spacing; the calibration lattice uses it
   double voxelSize = 0;
   double radius = 0;  ///< particle radius (spheres, zhu-bridson) or half the kernel support (anisotropic)
-  int smoothIterations = 0;  ///< mean-curvature iterations
-  double adaptivity = 0;     ///< volumeToMesh adaptivity in [0, 1]
-  bool calibrate = true;     ///< apply surfaceOffset (see calibrateOffset())
-  double surfaceOffset = 0;  ///< erosion (m) applied after smoothing, from calibrateOffset()
-  double halfWidth = 3;      ///< narrow band half width in voxels
+  int smoothIterations = 0;                ///< mean-curvature iterations
+  double adaptivity = 0;                   ///< volumeToMesh adaptivity in [0, 1]
+  bool calibrate = true;                   ///< apply surfaceOffset (see calibrateOffset())
+  double surfaceOffset = 0;                ///< erosion (m) applied after smoothing, from calibrateOffset()
+  double halfWidth = 3;                    ///< narrow band half width in voxels
   AnisotropicSurfaceSettings anisotropic;  ///< the anisotropic method's kernel parameters
 };
 

@@ -1,0 +1,24 @@
+// Every registered pressure solver has an implementation, and it is the one its name says.
+#include <gtest/gtest.h>
+
+#include "dispatch_gate.h"
+#include "gpu_types.h"
+#include "sim_test_util.h"
+#include "simulator.h"
+#include "sphfx/core/methods.h"
+
+using namespace sphfx;
+
+TEST(SolverRegistry, EveryRegisteredSolverIsBuilt) {
+  auto ctx = test::makeContext();
+  for (const auto& entry : pressureSolverRegistry()) {
+    SCOPED_TRACE(entry.name);
+    Scene scene = test::sceneFromJson(R"({"fluid": {"spacing": 0.05, "blocks": [{"min": [0,0,0],
+                                          "max": [0.3,0.3,0.3]}]}})");
+    scene.solver.method = entry.id;
+    const sim::DispatchGate gate(uint32_t(countInitialParticles(scene)));
+    const auto solver = sim::makePressureSolver(scene, gate, sim::simShaderDefines(scene));
+    ASSERT_NE(solver, nullptr);
+    EXPECT_EQ(entry.name, solver->name());
+  }
+}
