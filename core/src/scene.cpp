@@ -215,9 +215,7 @@ std::shared_ptr<const Object<SolverSettings>> solverSchema() {
         .number("speed_of_sound", &SolverSettings::speedOfSound, 30, "m/s", Range{0, 1e5, true, false},
                 "Numerical speed of sound c: WCSPH's Tait EOS and acoustic time-step limit (about 10x the "
                 "fastest flow keeps the density error near 1 %), and the c of Monaghan's artificial "
-                "viscosity under either solver.")
-        .onlyWhen([](const SolverSettings& s) { return s.method == Solver::DFSPH || isTait(s.wcsph); },
-                  "not with the linear eos, whose speed of sound is sqrt(stiffness)")
+                "viscosity under either solver. With WCSPH's linear eos, c is sqrt(stiffness) instead.")
         .child("wcsph", &SolverSettings::wcsph, wcsphSchema(), "WCSPH's parameters.")
         .onlyWhen([](const SolverSettings& s) { return s.method == Solver::WCSPH; },
                   onlyWithMethod(methodEntry(solvers, Solver::WCSPH).name))
