@@ -181,11 +181,9 @@ void trackWithOffset(LevelSetFilterT& filter, double offset) {
 }
 
 /// Mean-curvature smoothing and the calibrated offset with OpenVDB's LevelSetFilter, which
-/// renormalizes and re-tracks the band after every step. (Tried and measured: smoothing without
-/// renormalizing between steps and one renormalization at the end, or folding the offset into the
-/// Zhu-Bridson radius, moved the surface by amounts the flat-slab calibration does not see: the pool top
-/// or the sphere convergence test failed. Adding the offset between two smoothing steps lowered the
-/// pool top by 0.027 s.)
+/// renormalizes and re-tracks the band after every step: renormalizing only at the end, or folding the
+/// offset into the Zhu-Bridson radius, moves the surface by amounts the flat-slab calibration does not
+/// see (the pool-top and sphere-convergence tests fail).
 void smoothAndOffset(openvdb::FloatGrid& grid, int iterations, double offset, bool holdsDistances,
                      StageTimer& timer) {
   if (iterations <= 0 && offset == 0) return;
