@@ -1,4 +1,4 @@
-// WCSPH pass 1: density (poly6) from fluid neighbours and Akinci 2012 boundary samples (psi W), then
+// WCSPH pass 1 (then sim_boundary_pressure.comp, sim_force.comp): density (the scene kernel, sphW) from fluid neighbours and Akinci 2012 boundary samples (psi W), then
 // pressure from the equation of state. Also reduces the largest density for the health check.
 #include "sph_params.glsl"
 #define SPH_FLUID_START(c) cellStart[c]
@@ -38,7 +38,7 @@ void main() {
       SPH_FOR_EACH_FLUID(j, first, last) {
         vec3 d = sphDelta(xi, pos[j].xyz);
         float r2 = dot(d, d);
-        fluid += sphPoly6(r2);
+        fluid += sphW(r2);
 #if defined(SIM_NEIGHBOR_MASKS)
         if (r2 < simKernel.w && j != i && j - f0 < 32u) fluidMask |= 1u << (j - f0);
 #endif
@@ -47,7 +47,7 @@ void main() {
         vec4 b = bpos[j];
         vec3 d = sphDelta(xi, b.xyz);
         float r2 = dot(d, d);
-        wall += b.w * sphPoly6(r2);
+        wall += b.w * sphW(r2);
 #if defined(SIM_NEIGHBOR_MASKS)
         if (r2 < simKernel.w && j - b0 < 32u) wallMask |= 1u << (j - b0);
 #endif

@@ -1,7 +1,6 @@
-// WCSPH pass 2: accelerations. Symmetric pressure force with the spiky gradient, Akinci 2012 boundary
-// samples with the pressure extrapolated hydrostatically from the particle (Adami et al. 2012:
-// p_b = p_i + rho_i g . (x_b - x_i), rho_b = rho_i; plain mirroring p_b = p_i under-supports a resting
-// column by rho g |x_b - x_i| and lets it sink into the wall) and friction, viscosity
+// WCSPH pass 3: accelerations. Symmetric pressure force with the scene kernel's gradient (sphGradW),
+// Akinci 2012 boundary samples of volume psi_b with their own pressure (sim_boundary_pressure.comp: the
+// same pair term as between particles, so the walls conserve energy) and friction, viscosity
 // (VISCOSITY_LAPLACIAN: Mueller et al. 2003; VISCOSITY_ARTIFICIAL: Monaghan), gravity. Reduces max |v|^2
 // and |a|^2 for the CFL step.
 #include "sph_params.glsl"
@@ -16,6 +15,9 @@ layout(std430, binding = SPHFX_SSBO_SIM_BOUNDARY_POS) readonly buffer SimBoundar
 layout(std430, binding = SPHFX_SSBO_SIM_BOUNDARY_VEL) readonly buffer SimBoundaryVel { vec4 bvel[]; };
 layout(std430, binding = SPHFX_SSBO_SIM_BOUNDARY_CELL_START) readonly buffer SimBoundaryStart {
   uint bStart[];
+};
+layout(std430, binding = SPHFX_SSBO_SIM_BOUNDARY_PRESSURE) readonly buffer SimBoundaryPressure {
+  float boundaryPressure[];  // p_b / rho_b^2 per sorted boundary sample
 };
 #if defined(SIM_NEIGHBOR_MASKS)
 // Neighbour masks per row of cells from sim_density.comp.
@@ -40,7 +42,7 @@ vec3 fluidTerm(uint j, vec3 xi, vec3 vi, float rhoi, float dpi) {
     vec3 d = sphDelta(xi, pos[j].xyz);
     float r2 = dot(d, d);
     float r = sqrt(r2);
-    vec3 grad = sphSpikyGrad(d, r);
+    vec3 grad = sphGradW(d, r);
     vec2 dpj = densityPressure[j];
     float coef = dpi + dpj.y;
 #if defined(VISCOSITY_ARTIFICIAL)
@@ -71,9 +73,9 @@ vec3 boundaryTerm(uint j, vec3 xi, vec3 vi, float rhoi, float dpi) {
     vec3 d = sphDelta(xi, b.xyz);
     float r2 = dot(d, d);
     float r = sqrt(r2);
-    vec3 grad = sphSpikyGrad(d, r);
-    // p_b / rho_b^2 with p_b = p_i + rho_i g . (x_b - x_i), never negative (no wall suction).
-    float coef = dpi + max(dpi - dot(simGravity.xyz, d) / rhoi, 0.0);
+    vec3 grad = sphGradW(d, r);
+    // The wall sample's own p_b / rho_b^2 (never negative: no wall suction).
+    float coef = dpi + boundaryPressure[j];
 #if defined(VISCOSITY_ARTIFICIAL)
     coef += artificialViscosity(vi - bvel[j].xyz, d, r2, 2.0 * rhoi);
 #elif defined(VISCOSITY_LAPLACIAN)

@@ -1,5 +1,20 @@
-// SPH kernels (Mueller et al. 2003): poly6 for density, spiky gradient for pressure, the viscosity
-// kernel's Laplacian. Factors are precomputed on the CPU (sphfx::sim::KernelFactors).
+// SPH kernels with support radius h (simDomainMin.w). Factors are precomputed on the CPU
+// (sphfx::sim::kernelFactors, wendlandFactors) into simKernel.xy.
+#if defined(KERNEL_WENDLAND_C2)
+// WCSPH with Wendland C2 (Wendland 1995; Dehnen & Aly 2012), one kernel for the density sum and the
+// pressure gradient: W = simKernel.x (1 - q)^4 (1 + 4 q), grad W = simKernel.y (1 - q)^3 r, q = |r| / h.
+float sphW(float r2) {
+  float q = sqrt(r2) / simDomainMin.w, t = max(1.0 - q, 0.0);
+  return simKernel.x * t * t * t * t * (1.0 + 4.0 * q);
+}
+
+vec3 sphGradW(vec3 r, float len) {
+  float t = max(1.0 - len / simDomainMin.w, 0.0);
+  return (simKernel.y * t * t * t) * r;
+}
+#else
+// Mueller et al. 2003: poly6 for density, spiky gradient for pressure (DFSPH's wall calibration in
+// sphfx::sim::DFSPHSolver is derived for this pair).
 float sphPoly6(float r2) {
   float d = max(simKernel.w - r2, 0.0);
   return simKernel.x * d * d * d;
@@ -10,6 +25,10 @@ vec3 sphSpikyGrad(vec3 r, float len) {
   float d = simDomainMin.w - len;
   return (len > 1e-12 && d > 0.0) ? (simKernel.y * d * d / len) * r : vec3(0.0);
 }
+
+float sphW(float r2) { return sphPoly6(r2); }
+vec3 sphGradW(vec3 r, float len) { return sphSpikyGrad(r, len); }
+#endif
 
 float sphViscosityLaplacian(float len) { return simKernel.z * max(simDomainMin.w - len, 0.0); }
 

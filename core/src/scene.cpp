@@ -141,6 +141,12 @@ std::shared_ptr<const Object<WcsphSettings>> wcsphSchema() {
              {{"linear", EquationOfState::Linear}, {"tait", EquationOfState::Tait}},
              "Equation of state: the seed's p = k (rho - rho0) (uses stiffness), or Tait, p = B ((rho / "
              "rho0)^gamma - 1) with B = rho0 c^2 / gamma (uses solver.speed_of_sound and gamma).")
+        .choice("kernel", &WcsphSettings::kernel, SphKernel::WendlandC2,
+                {{"wendland_c2", SphKernel::WendlandC2}, {"muller2003", SphKernel::Muller2003}},
+                "Smoothing kernel of the density sum and the pressure gradient: Wendland C2 (one "
+                "kernel for both, so the pressure force is the gradient of the density estimate and "
+                "the scheme conserves energy; no pairing instability), or Mueller et al. 2003's poly6 "
+                "density with the spiky gradient (the seed's pair, not energy-consistent).")
         .number("stiffness", &WcsphSettings::stiffness, 1000, "m^2/s^2", Range{0, 1e9, true, false},
                 "Linear EOS stiffness k; the speed of sound is then sqrt(k).")
         .onlyWhen([](const WcsphSettings& w) { return !isTait(w); }, "linear eos")

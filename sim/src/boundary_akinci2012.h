@@ -53,6 +53,8 @@ class BoundaryAkinci2012 {
   /// Binds the sorted samples and their cell ranges for the solver passes, and the colliders.
   void bind() const;
   uint32_t count() const { return count_; }
+  /// The dispatch gate's entry over the samples (one invocation per sample).
+  uint32_t gateEntry() const { return entry_; }
   bool moving() const { return moving_; }
 
  private:

@@ -11,16 +11,34 @@ KernelFactors kernelFactors(double h) {
   return {315.0 / (64.0 * pi * std::pow(h, 9)), -45.0 / (pi * std::pow(h, 6)), 45.0 / (pi * std::pow(h, 6))};
 }
 
+WendlandFactors wendlandFactors(double h) {
+  const double pi = std::numbers::pi;
+  return {21.0 / (2.0 * pi * std::pow(h, 3)), -210.0 / (pi * std::pow(h, 5))};
+}
+
+bool usesWendland(const Scene& scene) {
+  return scene.solver.method == Solver::WCSPH && scene.solver.wcsph.kernel == SphKernel::WendlandC2;
+}
+
+double densityKernel(const Scene& scene, double r2) {
+  const double h = scene.kernelRadius();
+  if (r2 >= h * h) return 0;
+  if (usesWendland(scene)) {
+    const double q = std::sqrt(r2) / h;
+    return wendlandFactors(h).density * std::pow(1 - q, 4) * (1 + 4 * q);
+  }
+  return kernelFactors(h).poly6 * std::pow(h * h - r2, 3);
+}
+
 double calibratedParticleMass(const Scene& scene) {
   const double s = scene.fluid.spacing, h = scene.kernelRadius();
-  const KernelFactors k = kernelFactors(h);
   const int n = int(std::ceil(h / s));
   double sum = 0;
   for (int x = -n; x <= n; ++x)
     for (int y = -n; y <= n; ++y)
       for (int z = -n; z <= n; ++z) {
         const double r2 = s * s * double(x * x + y * y + z * z);
-        if (r2 < h * h) sum += k.poly6 * std::pow(h * h - r2, 3);
+        sum += densityKernel(scene, r2);
       }
   return scene.fluid.restDensity / sum;
 }
@@ -75,8 +93,9 @@ SimParams makeSimParams(const Scene& scene, uint32_t particles, uint32_t boundar
   p.gridDims[2] = dims[2];
   p.gridDims[3] = dims[0] * dims[1] * dims[2];
   const KernelFactors k = kernelFactors(h);
-  p.kernel[0] = float(k.poly6);
-  p.kernel[1] = float(k.spikyGradient);
+  const WendlandFactors w = wendlandFactors(h);
+  p.kernel[0] = float(usesWendland(scene) ? w.density : k.poly6);
+  p.kernel[1] = float(usesWendland(scene) ? w.gradient : k.spikyGradient);
   p.kernel[2] = float(k.viscosityLaplacian);
   p.kernel[3] = float(h * h);
   const double rho0 = scene.fluid.restDensity, c = speedOfSound(scene);
@@ -113,6 +132,7 @@ ShaderDefines simShaderDefines(const Scene& scene) {
   d.set(scene.solver.wcsph.eos == EquationOfState::Tait ? "EOS_TAIT" : "EOS_LINEAR");
   if (scene.fluid.viscosityModel == ViscosityModel::Laplacian) d.set("VISCOSITY_LAPLACIAN");
   if (scene.fluid.viscosityModel == ViscosityModel::Artificial) d.set("VISCOSITY_ARTIFICIAL");
+  if (usesWendland(scene)) d.set("KERNEL_WENDLAND_C2");
   if (!scene.colliders.empty()) d.set("HAS_COLLIDERS");
   if (scene.solver.method == Solver::DFSPH) d.set("SOLVER_DFSPH");
   if (scene.domain.isPeriodic(0)) d.set("SIM_PERIODIC_X");

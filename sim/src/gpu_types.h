@@ -19,12 +19,13 @@ struct SimParams {
   float domainMax[4];   ///< xyz; w: particle spacing
   float gravity[4];     ///< xyz; w: particle mass
   int32_t gridDims[4];  ///< xyz: cells; w: number of cells
-  float kernel[4];      ///< poly6 factor, spiky gradient factor, viscosity Laplacian factor, h^2
-  float fluid[4];       ///< rest density, EOS stiffness (k or Tait B), gamma, speed of sound
-  float viscosity[4];   ///< kinematic viscosity, Monaghan alpha, wall clamp margin, unused
-  float step[4];        ///< CFL, viscous and force factors, fixed dt (0: CFL)
-  float limits[4];      ///< dt_min, dt_max, health max density, health max speed
-  uint32_t counts[4];   ///< particles, boundary samples, colliders, dispatch argument entries
+  float kernel[4];  ///< density and gradient kernel factors (poly6/spiky or Wendland C2), viscosity Laplacian
+                    ///< factor, h^2
+  float fluid[4];   ///< rest density, EOS stiffness (k or Tait B), gamma, speed of sound
+  float viscosity[4];  ///< kinematic viscosity, Monaghan alpha, wall clamp margin, unused
+  float step[4];       ///< CFL, viscous and force factors, fixed dt (0: CFL)
+  float limits[4];     ///< dt_min, dt_max, health max density, health max speed
+  uint32_t counts[4];  ///< particles, boundary samples, colliders, dispatch argument entries
 };
 
 /// std430 shader storage block SimStateBlock: time, dt, per-substep reductions and health counters.
@@ -70,7 +71,22 @@ struct KernelFactors {
 };
 KernelFactors kernelFactors(double h);
 
-/// Particle mass that puts the initial cubic lattice exactly at rest density with the poly6 kernel:
+/// Normalisation factors of Wendland C2 in 3D for support radius h: W(r) = density (1 - q)^4 (1 + 4 q),
+/// grad W(r) = gradient (1 - q)^3 r (negative), q = |r| / h.
+struct WendlandFactors {
+  double density;   ///< 21 / (2 pi h^3)
+  double gradient;  ///< -210 / (pi h^5)
+};
+WendlandFactors wendlandFactors(double h);
+
+/// The scene's solver uses Wendland C2 (WCSPH with solver.wcsph.kernel = wendland_c2) rather than the
+/// poly6 / spiky pair.
+bool usesWendland(const Scene& scene);
+
+/// The density kernel of the scene's solver at squared distance r2 (0 beyond h).
+double densityKernel(const Scene& scene, double r2);
+
+/// Particle mass that puts the initial cubic lattice exactly at rest density with the scene's density kernel:
 /// rho0 / sum_j W(x_j) over the lattice. (The nominal rho0 spacing^3 is a few percent off at h = 2
 /// spacings, which would compress or expand the fluid in the first steps.)
 double calibratedParticleMass(const Scene& scene);

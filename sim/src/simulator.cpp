@@ -17,10 +17,10 @@
 namespace sphfx::sim {
 
 std::unique_ptr<PressureSolver> makePressureSolver(const Scene& scene, const DispatchGate& gate,
-                                                   const ShaderDefines& defines) {
+                                                   const ShaderDefines& defines, uint32_t boundaryEntry) {
   switch (scene.solver.method) {  // one case per entry of pressureSolverRegistry()
     case Solver::WCSPH:
-      return std::make_unique<WCSPHSolver>(scene, gate, defines);
+      return std::make_unique<WCSPHSolver>(scene, gate, defines, boundaryEntry);
     case Solver::DFSPH:
       return std::make_unique<DFSPHSolver>(scene, gate, defines, uint32_t(countInitialParticles(scene)));
   }
@@ -43,7 +43,7 @@ Simulator::Simulator(const Scene& scene) : scene_(scene), frame_(scene.time.star
   const GridSpec spec = GridSpec::forScene(scene);
   grid_ = std::make_unique<NeighborGrid>(*gate_, spec, count_);
   boundary_ = std::make_unique<BoundaryAkinci2012>(scene, *gate_, spec, defines_);
-  solver_ = makePressureSolver(scene, *gate_, defines_);
+  solver_ = makePressureSolver(scene, *gate_, defines_, boundary_->gateEntry());
   stepper_ = std::make_unique<SymplecticEuler>(*gate_, defines_);
   health_ = ShaderProgram::compute(simShaderTable(), "sim_health.comp", defines_);
 
@@ -170,6 +170,7 @@ FrameStats Simulator::advance() {
   timer_.collect();
   frame_ = next;
   checkHealth(s);
+  if (cachesDensity()) refreshFrameDensity();
   lastSubsteps_ = int(s.substeps);
   FrameStats f;
   f.frame = next;
@@ -241,6 +242,17 @@ std::string Simulator::whereDensest() const {
   return where;
 }
 
+SimulatorState Simulator::sortedState() const {
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+  SimulatorState s;
+  s.frame = frame_;
+  s.position.resize(count_);
+  s.velocity.resize(count_);
+  pos_.download(s.position.data(), size_t(count_) * 16);
+  vel_.download(s.velocity.data(), size_t(count_) * 16);
+  return s;
+}
+
 SimulatorState Simulator::saveState() const {
   glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
   SimulatorState s;
@@ -252,8 +264,30 @@ SimulatorState Simulator::saveState() const {
   return s;
 }
 
+bool Simulator::cachesDensity() const {
+  return scene_.hasCacheAttribute(CacheAttribute::Density) ||
+         scene_.hasCacheAttribute(CacheAttribute::Pressure);
+}
+
+// Sorts the frame's final state into the sorted copies (the state itself stays as it is, so the next
+// substep and a restart see exactly what they would without this pass) and computes their density and
+// pressure at the frame's time: cacheFrame() then reads positions and attributes of one instant.
+void Simulator::refreshFrameDensity() {
+  const double t = scene_.frameTime(frame_);
+  startFrame(t, t);
+  timer_.begin("frame_density");
+  params_.bindUniform(SPHFX_UBO_SIM_PARAMS);
+  state_.bindStorage(SPHFX_SSBO_SIM_STATE);
+  boundary_->update();
+  grid_->build(posIn_, velIn_, pos_, vel_);
+  bindSolverBuffers();
+  solver_->computeDensity(timer_);
+  timer_.end();
+}
+
 ParticleFrame Simulator::cacheFrame() const {
-  const SimulatorState s = saveState();
+  // With cached density the sorted copies hold the frame's state in the attributes' order.
+  const SimulatorState s = cachesDensity() ? sortedState() : saveState();
   ParticleFrame f;
   f.frame = frame_;
   f.time = scene_.frameTime(frame_);

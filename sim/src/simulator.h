@@ -34,9 +34,10 @@ struct SimulatorState {
   std::vector<std::array<float, 4>> velocity;
 };
 
-/// Builds the pressure solver the scene names. @throws InputError for a solver this build lacks.
+/// Builds the pressure solver the scene names; `boundaryEntry` is the gate's dispatch over the boundary
+/// samples. @throws InputError for a solver this build lacks.
 std::unique_ptr<PressureSolver> makePressureSolver(const Scene& scene, const DispatchGate& gate,
-                                                   const ShaderDefines& defines);
+                                                   const ShaderDefines& defines, uint32_t boundaryEntry);
 
 class Simulator {
  public:
@@ -52,7 +53,9 @@ class Simulator {
   uint32_t particleCount() const { return count_; }
   uint32_t boundaryCount() const { return boundary_->count(); }
 
-  /// The current frame as a cache (attributes as the scene asks). Downloads from the GPU.
+  /// The current frame as a cache (attributes as the scene asks). Density and pressure are those of the
+  /// cached positions: when the scene caches them, advance() ends with a density pass over the frame's
+  /// final state (the last substep's were computed before its integration). Downloads from the GPU.
   ParticleFrame cacheFrame() const;
   SimulatorState saveState() const;
   /// @throws InputError if the particle count differs.
@@ -71,6 +74,9 @@ class Simulator {
   void bindSolverBuffers() const;
   SimState readState() const;
   void startFrame(double t0, double t1);
+  void refreshFrameDensity();
+  bool cachesDensity() const;
+  SimulatorState sortedState() const;
   void checkHealth(const SimState& s) const;
   std::string whereDensest() const;
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "bindings.h"
+#include "boundary_akinci2012.h"
 #include "sim_shaders.h"
 
 namespace sphfx::sim {
@@ -14,11 +15,15 @@ ShaderDefines withNeighborList(ShaderDefines d) {
 }
 }  // namespace
 
-WCSPHSolver::WCSPHSolver(const Scene& scene, const DispatchGate& gate, const ShaderDefines& defines)
+WCSPHSolver::WCSPHSolver(const Scene& scene, const DispatchGate& gate, const ShaderDefines& defines,
+                         uint32_t boundaryEntry)
     : gate_(&gate),
+      boundaryEntry_(boundaryEntry),
       density_(ShaderProgram::compute(simShaderTable(), "sim_density.comp", withNeighborList(defines))),
+      boundaryPressure_(ShaderProgram::compute(simShaderTable(), "sim_boundary_pressure.comp", defines)),
       force_(ShaderProgram::compute(simShaderTable(), "sim_force.comp", withNeighborList(defines))),
-      neighbors_(std::max<size_t>(countInitialParticles(scene), 1) * 18 * 4) {}
+      neighbors_(std::max<size_t>(countInitialParticles(scene), 1) * 18 * 4),
+      boundaryPressures_(std::max<size_t>(sampleBoundaries(scene).size(), 1) * 4) {}
 
 void WCSPHSolver::computeDensity(PassTimer& timer) const {
   timer.begin("density");
@@ -30,6 +35,11 @@ void WCSPHSolver::computeDensity(PassTimer& timer) const {
 
 void WCSPHSolver::computeAccelerations(PassTimer& timer) const {
   computeDensity(timer);
+  timer.begin("boundary_pressure");
+  boundaryPressures_.bindStorage(SPHFX_SSBO_SIM_BOUNDARY_PRESSURE);
+  boundaryPressure_.use();
+  gate_->dispatch(boundaryEntry_, "sim_boundary_pressure.comp");
+  storageBarrier();
   timer.begin("force");
   force_.use();
   gate_->dispatch(DispatchGate::kParticleEntry, "sim_force.comp");

@@ -39,16 +39,20 @@ class PressureSolver {
 
 class WCSPHSolver : public PressureSolver {
  public:
+  /// `boundaryEntry` is the gate's dispatch over the boundary samples (BoundaryAkinci2012::gateEntry()).
   /// @throws GLError if a program does not build.
-  WCSPHSolver(const Scene& scene, const DispatchGate& gate, const ShaderDefines& defines);
+  WCSPHSolver(const Scene& scene, const DispatchGate& gate, const ShaderDefines& defines,
+              uint32_t boundaryEntry);
   const char* name() const override { return "wcsph"; }
   void computeAccelerations(PassTimer& timer) const override;
   void computeDensity(PassTimer& timer) const override;
 
  private:
   const DispatchGate* gate_;
-  ShaderProgram density_, force_;
-  GpuBuffer neighbors_;  ///< per particle and row of cells: which candidates are within h (18 words)
+  uint32_t boundaryEntry_;
+  ShaderProgram density_, boundaryPressure_, force_;
+  GpuBuffer neighbors_;          ///< per particle and row of cells: which candidates are within h (18 words)
+  GpuBuffer boundaryPressures_;  ///< p_b / rho_b^2 per sorted boundary sample
 };
 
 }  // namespace sphfx::sim

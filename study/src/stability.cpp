@@ -1,7 +1,9 @@
 #include "sphfx/study/stability.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -34,8 +36,29 @@ const Object<StabilitySuite>& suiteSchema() {
         .flag("energy", &StabilityCase::energy, false, "Report kinetic + potential energy over time.")
         .flag("may_stop", &StabilityCase::mayStop, false,
               "A clean stop by the health check is an acceptable outcome for this case.")
+        .textList("criteria", &StabilityCase::criteriaNames,
+                  "Physical criteria a completed run must meet: rest, energy, walls, speed "
+                  "(sphfx::study::Criterion).")
+        .textList("known_misses", &StabilityCase::knownMisses,
+                  "Criteria the case is known to miss, as \"solver:criterion\" (open work; the "
+                  "report lists them, and any other miss fails the suite).")
         .check([](const StabilityCase& c, const Json&, const std::string& path) {
           if (c.name.empty() || c.scene.empty()) throw SchemaError(path, "a case needs a name and a scene");
+          for (const auto& name : c.criteriaNames) try {
+              parseCriterion(name);
+            } catch (const InputError& e) {
+              throw SchemaError(schema::childPath(path, "criteria"), e.what());
+            }
+          for (const auto& miss : c.knownMisses) {
+            const auto colon = miss.find(':');
+            bool listed = false;
+            if (colon != std::string::npos)
+              for (const auto& name : c.criteriaNames) listed |= name == miss.substr(colon + 1);
+            if (!listed)
+              throw SchemaError(
+                  schema::childPath(path, "known_misses"),
+                  "expected \"solver:criterion\" with a criterion the case lists, got \"" + miss + "\"");
+          }
         });
   });
   static const auto schema = makeSchema<StabilitySuite>([](Object<StabilitySuite>& o) {
@@ -88,7 +111,14 @@ StabilityRun runCase(const StabilitySuite& suite, const StabilityCase& c, const 
   writeTextAtomically(sceneFile, sceneToJson(scene).dump(2) + "\n");
   const std::string shotDir = (runDir / "shot").string();
   run.outcome = runSimulation(options.sphfxExe, sceneFile, shotDir, suite.timeoutSeconds, options.gl);
-  run.acceptable = run.outcome.status == RunStatus::Completed ||
+  if (run.outcome.status == RunStatus::Completed && !c.criteria.empty()) {
+    const auto states = measureShot(shotDir, scene);
+    for (Criterion k : c.criteria) {
+      run.verdicts.push_back(judge(k, states, scene));
+      run.known.push_back(c.knownMiss(solver, k));
+    }
+  }
+  run.acceptable = (run.outcome.status == RunStatus::Completed && run.criteriaMet()) ||
                    (run.outcome.status == RunStatus::StoppedCleanly && (c.mayStop || dt > 0));
   if (c.energy && run.outcome.status == RunStatus::Completed && dt == 0)
     run.energy = energyOverTime(sceneFile, shotDir);
@@ -110,33 +140,79 @@ std::string energyText(const StabilityRun& r) {
   return t;
 }
 
+std::string failedCriteria(const StabilityRun& r) {
+  std::string t;
+  for (const auto& v : r.verdicts)
+    if (!v.passed) t += std::string(t.empty() ? "" : ", ") + toString(v.criterion);
+  return "completed, missed " + t;
+}
+
+std::string criteriaCell(const StabilityRun& r) {
+  if (r.verdicts.empty()) return r.outcome.status == RunStatus::Completed ? "none asked" : "-";
+  std::string t;
+  for (size_t i = 0; i < r.verdicts.size(); ++i)
+    t += fmt::format("{}{} {}", t.empty() ? "" : "; ", toString(r.verdicts[i].criterion),
+                     r.verdicts[i].passed ? "ok"
+                     : r.known[i]         ? "missed (known)"
+                                          : "MISSED");
+  return t;
+}
+
+std::string verdictText(const StabilitySuite& suite, const StabilityReport& report) {
+  std::string t =
+      "\nPhysical criteria of the completed runs (measured from the caches; bounds in "
+      "docs/validation.md):\n\n| case | solver | particles | criterion | measured | bound | verdict |\n"
+      "|---|---|---|---|---|---|---|\n";
+  (void)suite;
+  for (const auto& r : report.runs)
+    if (r.fixedDt == 0)
+      for (size_t i = 0; i < r.verdicts.size(); ++i) {
+        const auto& v = r.verdicts[i];
+        const std::string verdict = v.passed
+                                        ? (r.known[i] ? "met (listed as a known miss)" : "met")
+                                        : fmt::format("{} (worst at frame {})",
+                                                      r.known[i] ? "missed, known" : "MISSED", v.worstFrame);
+        t += fmt::format("| {} | {} | {} | {} | {} | {} | {} |\n", r.caseName, r.solver, r.particles,
+                         toString(v.criterion), v.measured, v.bound, verdict);
+      }
+  return t;
+}
+
 void writeStabilityOutputs(const StabilitySuite& suite, bool quick, const StabilityReport& report,
                            const std::string& outDir) {
-  std::string csv = "case,solver,fixed_dt,particles,status,acceptable,wall_s,substeps,message\n";
+  std::string csv = "case,solver,fixed_dt,particles,status,criteria,acceptable,wall_s,substeps,message\n";
   for (const auto& r : report.runs)
-    csv += fmt::format("{},{},{},{},{},{},{:.2f},{},\"{}\"\n", r.caseName, r.solver, r.fixedDt, r.particles,
-                       toString(r.outcome.status), r.acceptable ? "yes" : "no", r.outcome.wallSeconds,
-                       r.outcome.substeps, r.outcome.message);
+    csv += fmt::format("{},{},{},{},{},\"{}\",{},{:.2f},{},\"{}\"\n", r.caseName, r.solver, r.fixedDt,
+                       r.particles, toString(r.outcome.status), criteriaCell(r), r.acceptable ? "yes" : "no",
+                       r.outcome.wallSeconds, r.outcome.substeps, r.outcome.message);
   writeTextAtomically((fs::path(outDir) / "stability.csv").string(), csv);
 
   std::string md = fmt::format(
       "# Stability suite: {}{}\n\n{} runs; failed: {}; stopped although the case must "
-      "stay stable: {}.\n\n{}\n\n| case | solver | particles | status | wall s | note |\n"
-      "|---|---|---|---|---|---|\n",
+      "stay stable: {}; completed but missed a physical criterion: {}; known misses (open work, "
+      "listed in the suite): {}, of which met this time: {}.\n\n{}\n\n"
+      "| case | solver | particles | status | criteria | wall s | note |\n|---|---|---|---|---|---|---|\n",
       suite.name, quick ? " (quick set)" : "", report.runs.size(), report.failed, report.unexpected,
+      report.violations, report.knownMisses, report.nowMet,
       inputsDigestLine(stabilityInputsDigest(suite, quick)));
   for (const auto& r : report.runs)
     if (r.fixedDt == 0)
-      md += fmt::format("| {} | {} | {} | {} | {:.1f} | {} |\n", r.caseName, r.solver, r.particles,
-                        toString(r.outcome.status), r.outcome.wallSeconds, r.outcome.message);
+      md +=
+          fmt::format("| {} | {} | {} | {} | {} | {:.1f} | {} |\n", r.caseName, r.solver, r.particles,
+                      toString(r.outcome.status), criteriaCell(r), r.outcome.wallSeconds, r.outcome.message);
+  md += verdictText(suite, report);
   // The largest fixed dt that completed, per case and solver.
   std::map<std::pair<std::string, std::string>, std::pair<double, std::string>> largest;
   for (const auto& r : report.runs) {
     if (r.fixedDt == 0) continue;
     auto& entry = largest[{r.caseName, r.solver}];
-    if (r.outcome.status == RunStatus::Completed && r.fixedDt > entry.first) entry.first = r.fixedDt;
-    if (r.outcome.status != RunStatus::Completed && entry.second.empty())
-      entry.second = fmt::format("{:g} s: {}", r.fixedDt, toString(r.outcome.status));
+    const bool stable = r.outcome.status == RunStatus::Completed && r.criteriaMet();
+    if (stable && r.fixedDt > entry.first) entry.first = r.fixedDt;
+    if (!stable && entry.second.empty())
+      entry.second =
+          fmt::format("{:g} s: {}", r.fixedDt,
+                      r.outcome.status == RunStatus::Completed ? failedCriteria(r)
+                                                               : std::string(toString(r.outcome.status)));
   }
   if (!largest.empty()) {
     md +=
@@ -159,9 +235,21 @@ void writeStabilityOutputs(const StabilitySuite& suite, bool quick, const Stabil
 
 }  // namespace
 
+bool StabilityCase::knownMiss(const std::string& solver, Criterion c) const {
+  return std::find(knownMisses.begin(), knownMisses.end(), solver + ":" + toString(c)) != knownMisses.end();
+}
+
+bool StabilityRun::criteriaMet() const {
+  for (size_t i = 0; i < verdicts.size(); ++i)
+    if (!verdicts[i].passed && !known[i]) return false;
+  return true;
+}
+
 StabilitySuite loadStabilitySuite(const std::string& path) {
   StabilitySuite suite =
       schema::readDocument(suiteSchema(), schema::readJsonFile(path, "stability suite"), path);
+  for (auto& c : suite.cases)
+    for (const auto& name : c.criteriaNames) c.criteria.push_back(parseCriterion(name));
   suite.directory = fs::path(path).parent_path().string();
   return suite;
 }
@@ -199,7 +287,8 @@ std::vector<std::tuple<const StabilityCase*, std::string, double>> stabilityPlan
 std::string stabilityInputsDigest(const StabilitySuite& suite, bool quick) {
   std::string text = suite.name + (quick ? " quick\n" : "\n");
   for (const auto& [c, solver, dt] : stabilityPlan(suite, quick))
-    text += fmt::format("{} {} {}\n{}\n", c->name, solver, dt,
+    text += fmt::format("{} {} {} criteria {} known {}\n{}\n", c->name, solver, dt,
+                        fmt::join(c->criteriaNames, ","), fmt::join(c->knownMisses, ","),
                         sceneToJson(resolveStabilityScene(suite, *c, solver, dt)).dump());
   return fnv1aHex(text);
 }
@@ -216,7 +305,13 @@ StabilityReport runStabilitySuite(const StabilitySuite& suite, bool quick, const
     StabilityRun run = runCase(suite, *c, solver, dt, outDir, options);
     if (run.outcome.status == RunStatus::Failed) ++report.failed;
     if (!run.acceptable && run.outcome.status == RunStatus::StoppedCleanly) ++report.unexpected;
-    if (dt > 0 && run.outcome.status != RunStatus::Completed) sweepDone[{c->name, solver}] = true;
+    if (dt == 0 && run.outcome.status == RunStatus::Completed && !run.criteriaMet()) ++report.violations;
+    for (size_t i = 0; dt == 0 && i < run.verdicts.size(); ++i) {
+      if (run.known[i] && !run.verdicts[i].passed) ++report.knownMisses;
+      if (run.known[i] && run.verdicts[i].passed) ++report.nowMet;
+    }
+    if (dt > 0 && !(run.outcome.status == RunStatus::Completed && run.criteriaMet()))
+      sweepDone[{c->name, solver}] = true;
     progress.update(int64_t(report.runs.size() + 1),
                     fmt::format("{} {} {}", c->name, solver, toString(run.outcome.status)));
     report.runs.push_back(std::move(run));

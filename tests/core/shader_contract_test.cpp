@@ -77,6 +77,7 @@ const std::map<std::string, Constant>& blockBindings() {
       {"SimBoundaryBody", SPHFX_CONSTANT(SPHFX_SSBO_SIM_BOUNDARY_BODY)},
       {"SimDispatch", SPHFX_CONSTANT(SPHFX_SSBO_SIM_DISPATCH)},
       {"SimNeighbors", SPHFX_CONSTANT(SPHFX_SSBO_SIM_NEIGHBORS)},
+      {"SimBoundaryPressure", SPHFX_CONSTANT(SPHFX_SSBO_SIM_BOUNDARY_PRESSURE)},
       {"DfsphParticle", SPHFX_CONSTANT(SPHFX_SSBO_SIM_DFSPH_PARTICLE)},
       {"DfsphIncrement", SPHFX_CONSTANT(SPHFX_SSBO_SIM_DFSPH_INCREMENT)},
       {"DfsphWarm", SPHFX_CONSTANT(SPHFX_SSBO_SIM_DFSPH_WARM)},
@@ -192,6 +193,7 @@ void addSimPrograms(const Scene& scene, const std::string& variant, std::vector<
     ShaderDefines masks = d;
     masks.set("SIM_NEIGHBOR_MASKS");
     add("sim_density.comp", masks);
+    add("sim_boundary_pressure.comp", d);
     add("sim_force.comp", masks);
     return;
   }
@@ -221,6 +223,7 @@ std::vector<ProgramSpec> allPrograms() {
   const std::string dam = (root / "scenes" / "dam_break.json").string();
   addSimPrograms(loadScene(dam, {"domain.periodic=[\"x\", \"z\"]"}), "dam_break periodic x z", programs);
   addSimPrograms(loadScene(dam, {"domain.periodic=[\"z\"]"}), "dam_break periodic z", programs);
+  addSimPrograms(loadScene(dam, {"solver.wcsph.kernel=muller2003"}), "dam_break muller2003 kernel", programs);
 
   const auto add = [&](const std::string& files, const ShaderDefines& defines = {}) {
     programs.push_back({files, defines, "renderer"});

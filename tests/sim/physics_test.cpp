@@ -7,6 +7,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "boundary_akinci2012.h"
 #include "gpu_types.h"
 #include "sim_test_util.h"
 #include "simulator.h"
@@ -108,6 +109,76 @@ TEST(Physics, HydrostaticTankSettlesToRestDensityAndPressureProfile) {
   const double fill = scene.fluid.blocks.front().max[1];
   std::printf("surface %.4f m, initial fill %.4f m\n", H, fill);
   EXPECT_NEAR(H, fill, s);
+}
+
+// Energy per unit mass, |v|^2 / 2 + g y, and the smallest distance from a particle centre to a wall face.
+std::pair<double, double> energyAndWallGap(const Scene& scene, const ParticleFrame& f) {
+  double e = 0, gap = 1e9;
+  for (size_t i = 0; i < f.size(); ++i) {
+    const auto &p = f.position[i], &v = f.velocity[i];
+    e += 0.5 * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) - scene.gravity[1] * p[1];
+    for (int a = 0; a < 3; ++a) gap = std::min({gap, p[a] - scene.domain.min[a], scene.domain.max[a] - p[a]});
+  }
+  return {e / double(f.size()), gap};
+}
+
+TEST(Physics, WcsphWallsDoNotPumpEnergyIntoATankAtRest) {
+  auto ctx = test::makeContext();
+  // At the defaults (WCSPH, Tait, c = 30 m/s, artificial viscosity 0.02): a closed tank at rest can only
+  // lose energy. Walls whose pressure is mirrored from each particle gained 2 % of g H in 0.5 s here
+  // and threw particles against the floor; the walls' own pressure (sim_boundary_pressure.comp) keeps
+  // the pair forces conservative.
+  const Scene scene = loadScene(std::string(SPHFX_SOURCE_DIR) + "/scenes/hydrostatic.json",
+                                {"fluid.spacing=0.02", "time.end_frame=25"});
+  ASSERT_EQ(scene.solver.method, Solver::WCSPH);
+  const double s = scene.fluid.spacing, gH = -scene.gravity[1] * scene.fluid.blocks.front().max[1];
+  sim::Simulator sim(scene);
+  const auto [e0, gap0] = energyAndWallGap(scene, sim.cacheFrame());
+  EXPECT_NEAR(gap0, 0.5 * s, 1e-6);
+  double growth = -1e9, gap = gap0;
+  while (sim.frame() < scene.time.endFrame) {
+    sim.advance();
+    const auto [e, g] = energyAndWallGap(scene, sim.cacheFrame());
+    growth = std::max(growth, e - e0);
+    gap = std::min(gap, g);
+  }
+  std::printf("largest energy gain %.3e J/kg (%.3f %% of g H), closest wall approach %.3f s\n", growth,
+              100 * growth / gH, gap / s);
+  EXPECT_LE(growth, 0.01 * gH);
+  EXPECT_GE(gap, 0.1 * s) << "only the last-resort clamp (0.05 s) held a particle";
+}
+
+TEST(Physics, CachedDensityIsThatOfTheCachedPositions) {
+  auto ctx = test::makeContext();
+  // A dam break in motion (frame 6, ~1.5 m/s): the cached density must be the SPH sum over the cached
+  // positions themselves (brute force on the CPU, fluid and wall samples), not over the positions one
+  // substep earlier (off by up to ~1 % at the surge front at this spacing).
+  const Scene scene = loadScene(std::string(SPHFX_SOURCE_DIR) + "/scenes/dam_break.json",
+                                {"fluid.spacing=0.04", "time.end_frame=6", "cache.attributes=[\"density\"]"});
+  sim::Simulator sim(scene);
+  while (sim.frame() < scene.time.endFrame) sim.advance();
+  const ParticleFrame f = sim.cacheFrame();
+  ASSERT_EQ(f.density.size(), f.size());
+  const double m = sim::calibratedParticleMass(scene);
+  const sim::BoundarySamples walls = sim::sampleBoundaries(scene);
+  double worst = 0, speed = 0;
+  for (size_t i = 0; i < f.size(); ++i) {
+    const auto& x = f.position[i];
+    const auto r2 = [&](const auto& y) {
+      return std::pow(x[0] - y[0], 2) + std::pow(x[1] - y[1], 2) + std::pow(x[2] - y[2], 2);
+    };
+    double rho = 0;
+    for (const auto& y : f.position) rho += m * sim::densityKernel(scene, r2(y));
+    for (const auto& y : walls.rest) rho += y[3] * sim::densityKernel(scene, r2(y));
+    worst = std::max(worst, std::fabs(f.density[i] / rho - 1));
+    speed = std::max(speed, double(std::hypot(f.velocity[i][0], f.velocity[i][1], f.velocity[i][2])));
+  }
+  std::printf(
+      "cached density against the sum over cached positions: worst relative difference %.2e "
+      "(fastest particle %.2f m/s)\n",
+      worst, speed);
+  EXPECT_GT(speed, 1.0) << "the flow is not moving: the test would not test anything";
+  EXPECT_LT(worst, 1e-4);
 }
 
 std::vector<std::pair<double, double>> readMartinMoyce() {

@@ -16,8 +16,9 @@ TEST(SolverRegistry, EveryRegisteredSolverIsBuilt) {
     Scene scene = test::sceneFromJson(R"({"fluid": {"spacing": 0.05, "blocks": [{"min": [0,0,0],
                                           "max": [0.3,0.3,0.3]}]}})");
     scene.solver.method = entry.id;
-    const sim::DispatchGate gate(uint32_t(countInitialParticles(scene)));
-    const auto solver = sim::makePressureSolver(scene, gate, sim::simShaderDefines(scene));
+    sim::DispatchGate gate(uint32_t(countInitialParticles(scene)));
+    const uint32_t boundaryEntry = gate.add(1, 64);
+    const auto solver = sim::makePressureSolver(scene, gate, sim::simShaderDefines(scene), boundaryEntry);
     ASSERT_NE(solver, nullptr);
     EXPECT_EQ(entry.name, solver->name());
   }

@@ -18,6 +18,8 @@ namespace sphfx {
 using Vec3d = std::array<double, 3>;
 
 enum class EquationOfState { Linear, Tait };
+/// WCSPH's smoothing kernel for density and pressure gradient.
+enum class SphKernel { WendlandC2, Muller2003 };
 enum class ViscosityModel { None, Laplacian, Artificial };
 enum class TimeStepMode { Fixed, Cfl };
 enum class Shape { Box, Sphere };
@@ -62,6 +64,7 @@ struct Fluid {
 /// WCSPH's own parameters (solver.wcsph).
 struct WcsphSettings {
   EquationOfState eos = EquationOfState::Tait;
+  SphKernel kernel = SphKernel::WendlandC2;
   double stiffness = 0;    ///< linear EOS: p = k (rho - rho0), k in Pa / (kg/m^3) = m^2/s^2
   double gamma = 7;        ///< Tait exponent
   double forceFactor = 0;  ///< CFL mode: factor on Monaghan's force limit sqrt(h / |a|max)

@@ -1,0 +1,75 @@
+#pragma once
+/// @file physics_checks.h
+/// @brief Physical state of cached frames and the acceptance criteria the stability suite judges runs by:
+/// water at rest stays at rest, a closed system does not gain energy, nothing enters a wall, nothing moves
+/// faster than the flow can make it. Everything is computed from the particle caches alone.
+
+#include <string>
+#include <vector>
+
+#include "sphfx/core/particle_cache.h"
+#include "sphfx/core/scene.h"
+
+namespace sphfx::study {
+
+/// What one cached frame says about the physics.
+struct FrameState {
+  int frame = 0;
+  double time = 0;
+  size_t particles = 0;
+  double kineticPerMass = 0;  ///< mean |v|^2 / 2 (J/kg)
+  double energyPerMass = 0;   ///< mean |v|^2 / 2 + g (y - floor) (J/kg)
+  double maxSpeed = 0;        ///< m/s
+  /// Mean top (y + s/2) of the highest A / s^2 particles, A the domain's x-z footprint: the free
+  /// surface of a tank that covers its floor (m).
+  double surfaceHeight = 0;
+  /// Mean density / rest density of the bulk: particles at least one kernel radius from every wall and
+  /// collider and below surfaceHeight - h. NaN when the cache has no density or no particle qualifies.
+  double bulkDensityRatio = 0;
+  /// Smallest distance from a particle centre to a wall face or collider surface (m); s/2 at rest on
+  /// the initial lattice. Infinity without walls.
+  double minWallGap = 0;
+};
+
+/// @throws nothing; an empty frame gives zeros (gap: infinity).
+FrameState measureFrameState(const ParticleFrame& frame, const Scene& scene);
+
+/// Every cached frame of a shot, in frame order.
+/// @throws IoError, InputError as readParticleCache.
+std::vector<FrameState> measureShot(const std::string& shotDir, const Scene& scene);
+
+/// The criteria a stability case may ask for (StabilityCase::criteria names them).
+enum class Criterion {
+  Rest,    ///< surface height drift < s/2, bulk density within 0.5 %, kinetic energy settles
+  Energy,  ///< a closed system: total energy never grows by more than 1 % of g H
+  Walls,   ///< no particle closer than 0.1 s to a wall or collider surface
+  Speed    ///< no particle faster than 2 sqrt(g H) plus the scene's initial and collider speeds
+};
+
+/// "rest", "energy", "walls", "speed".
+/// @throws InputError for other names.
+Criterion parseCriterion(const std::string& name);
+const char* toString(Criterion c);
+
+/// One criterion's verdict with its measured figure and bound, as the report prints them.
+struct CriterionResult {
+  Criterion criterion{};
+  bool passed = false;
+  std::string measured;  ///< e.g. "drift 0.12 s, bulk density -0.21 %, KE/m 3.1e-06 J/kg"
+  std::string bound;     ///< e.g. "< 0.5 s, within 0.5 %, < 1.5e-04 J/kg"
+  int worstFrame = 0;    ///< where the measured figure is worst
+};
+
+/// Judges `states` (measureShot of a completed run) by `c`. Rest compares the first and last frames
+/// and, for the kinetic energy, the mean over the last quarter of the run.
+CriterionResult judge(Criterion c, const std::vector<FrameState>& states, const Scene& scene);
+
+/// Height of the fluid above the floor at the start: the highest initial particle top minus domain
+/// min y (m). The scale of every bound above.
+double initialFluidHeight(const Scene& scene);
+
+/// 2 sqrt(g H) (Ritter's dam-break front speed, the fastest a gravity flow from rest of depth H runs)
+/// plus the largest initial particle speed and the largest collider speed (m/s).
+double speedBound(const Scene& scene);
+
+}  // namespace sphfx::study

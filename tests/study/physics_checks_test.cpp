@@ -1,0 +1,95 @@
+// The stability criteria on synthetic frames whose answers are known by construction: a tank at rest on
+// its lattice, the same tank with one particle pushed against the floor, thrown too fast, or lifted.
+#include "sphfx/study/physics_checks.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "sphfx/core/error.h"
+
+using namespace sphfx;
+using namespace sphfx::study;
+
+namespace {
+
+// A 0.2 x 0.1 x 0.1 tank filled to 0.1 m at spacing 0.01 (10 x 10 x 10 particles), g = 9.81.
+Scene tankScene() {
+  schema::Json raw = schema::Json::parse(R"({
+    "domain": { "min": [0, 0, 0], "max": [0.1, 0.2, 0.1] },
+    "fluid": { "spacing": 0.01, "blocks": [ { "shape": "box", "min": [0, 0, 0], "max": [0.1, 0.1, 0.1] } ] },
+    "time": { "fps": 10, "start_frame": 1, "end_frame": 3 }
+  })");
+  return parseScene(raw, "tank");
+}
+
+ParticleFrame restingFrame(const Scene& scene, int frame) {
+  const SeededParticles seeds = seedParticles(scene);
+  ParticleFrame f;
+  f.frame = frame;
+  f.time = scene.frameTime(frame);
+  f.particleSpacing = scene.fluid.spacing;
+  f.position = seeds.position;
+  f.velocity = seeds.velocity;
+  f.density.assign(f.size(), float(scene.fluid.restDensity));
+  return f;
+}
+
+std::vector<FrameState> states(const Scene& scene, const std::vector<ParticleFrame>& frames) {
+  std::vector<FrameState> s;
+  for (const auto& f : frames) s.push_back(measureFrameState(f, scene));
+  return s;
+}
+
+}  // namespace
+
+TEST(PhysicsChecks, ATankAtRestOnItsLatticeMeetsEveryCriterion) {
+  const Scene scene = tankScene();
+  const auto st = states(scene, {restingFrame(scene, 1), restingFrame(scene, 2), restingFrame(scene, 3)});
+  EXPECT_NEAR(st[0].surfaceHeight, 0.1, 1e-6);
+  EXPECT_NEAR(st[0].minWallGap, 0.005, 1e-6);
+  EXPECT_NEAR(st[0].bulkDensityRatio, 1.0, 1e-9);
+  // Mean height 0.05 m: E/m = g * 0.05.
+  EXPECT_NEAR(st[0].energyPerMass, 9.81 * 0.05, 1e-5);
+  for (Criterion c : {Criterion::Rest, Criterion::Energy, Criterion::Walls, Criterion::Speed})
+    EXPECT_TRUE(judge(c, st, scene).passed) << toString(c) << ": " << judge(c, st, scene).measured;
+}
+
+TEST(PhysicsChecks, BoundsFollowFromTheScene) {
+  const Scene scene = tankScene();
+  EXPECT_NEAR(initialFluidHeight(scene), 0.1, 1e-6);                // float positions
+  EXPECT_NEAR(speedBound(scene), 2 * std::sqrt(9.81 * 0.1), 1e-6);  // Ritter's front speed
+}
+
+TEST(PhysicsChecks, EachViolationIsCaught) {
+  const Scene scene = tankScene();
+  const ParticleFrame rest = restingFrame(scene, 1);
+
+  ParticleFrame pressed = restingFrame(scene, 2);
+  pressed.position[0][1] = 0.0005f;  // 0.05 s above the floor: only the last-resort clamp holds it
+  EXPECT_FALSE(judge(Criterion::Walls, states(scene, {rest, pressed}), scene).passed);
+
+  ParticleFrame fast = restingFrame(scene, 2);
+  fast.velocity[500] = {0, 0, float(1.01 * speedBound(scene))};
+  EXPECT_FALSE(judge(Criterion::Speed, states(scene, {rest, fast}), scene).passed);
+  ParticleFrame lifted = restingFrame(scene, 2);
+  for (auto& p : lifted.position) p[1] += 0.002f;  // E/m grows by g * 0.002 = 2 % of g H
+  EXPECT_FALSE(judge(Criterion::Energy, states(scene, {rest, lifted}), scene).passed);
+  ParticleFrame risen = restingFrame(scene, 2);
+  for (auto& p : risen.position) p[1] += 0.006f;  // surface 0.6 s higher
+  EXPECT_FALSE(judge(Criterion::Rest, states(scene, {rest, risen}), scene).passed);
+
+  ParticleFrame expanded = restingFrame(scene, 2);
+  expanded.density.assign(expanded.size(), float(0.99 * scene.fluid.restDensity));
+  EXPECT_FALSE(judge(Criterion::Rest, states(scene, {rest, expanded}), scene).passed);
+
+  ParticleFrame stirred = restingFrame(scene, 2);
+  for (auto& v : stirred.velocity) v = {0.02f, 0, 0};  // rms 2 % of sqrt(g H): KE/m = 2e-4 > 0.5e-4 g H
+  EXPECT_FALSE(judge(Criterion::Rest, states(scene, {rest, stirred}), scene).passed);
+}
+
+TEST(PhysicsChecks, CriterionNames) {
+  EXPECT_EQ(parseCriterion("rest"), Criterion::Rest);
+  EXPECT_EQ(parseCriterion("walls"), Criterion::Walls);
+  EXPECT_THROW(parseCriterion("completed"), InputError);
+}
