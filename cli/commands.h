@@ -25,5 +25,6 @@ void addSurfaceCommand(CLI::App& app);
 void addRenderCommand(CLI::App& app);
 void addSimulateCommand(CLI::App& app);
 void addRunCommand(CLI::App& app);
+void addFarmCommand(CLI::App& app);
 
 }  // namespace sphfx::cli

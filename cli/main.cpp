@@ -29,6 +29,7 @@ int main(int argc, char** argv) {
   sphfx::cli::addSurfaceCommand(app);
   sphfx::cli::addRenderCommand(app);
   sphfx::cli::addRunCommand(app);
+  sphfx::cli::addFarmCommand(app);
 
   try {
     app.parse(argc, argv);
