@@ -4,7 +4,7 @@
 scheduler's overhead per task (an array of empty tasks). Figures in docs/farm.md ("Measured").
 
   python3 bench/farm_bench.py --sphfx build/cli/sphfx [--rounds 3] [--chunk 10] [--cpus-per-task 1]
-                              [--skip-overhead]
+                              [--scheduler-parameters P] [--skip-overhead]
 
 The shot: tests/farm/tiny_shot.json with 100 frames, spacing 0.025 m (~1,000 particles) and 640x360
 images, simulated once; each round copies that simulation and redoes surface and render both ways.
@@ -97,6 +97,8 @@ def main():
     p.add_argument("--rounds", type=int, default=3)
     p.add_argument("--chunk", type=int, default=10)
     p.add_argument("--cpus-per-task", type=int, default=1)
+    p.add_argument("--scheduler-parameters", default="",
+                   help="SchedulerParameters of the bench's slurm.conf (default: Slurm's defaults)")
     p.add_argument("--skip-overhead", action="store_true", help="skip the empty-array measurement")
     p.add_argument("--work", default=None, help="scratch folder (default: a new temporary one)")
     a = p.parse_args()
@@ -109,7 +111,7 @@ def main():
     sim = timed([a.sphfx, "-q", "simulate", a.scene, "-o", base, *sets_args()])
     print(f"simulate, 100 frames: {sim:.1f} s (once; not part of the comparison)", flush=True)
 
-    with slurm_cluster.LocalSlurm(os.path.join(work, "slurm")) as cluster:
+    with slurm_cluster.LocalSlurm(os.path.join(work, "slurm"), a.scheduler_parameters) as cluster:
         env = cluster.env
         local, farm = [], []
         for r in range(a.rounds):
@@ -118,16 +120,16 @@ def main():
             print(f"round {r + 1}: run --from surface {local[-1]:.1f} s, farm {farm[-1]:.1f} s "
                   f"(ratio farm/local {farm[-1] / local[-1]:.2f})", flush=True)
         if not a.skip_overhead:
-            empty = [empty_array(env, work, 100) for _ in range(a.rounds)]
+            empty = [empty_array(env, work, 100)]  # ~1 s per task: once
             single = [empty_array(env, work, 1) for _ in range(a.rounds)]
 
     ml, mf = statistics.median(local), statistics.median(farm)
     print(f"\nmachine: {os.cpu_count()} CPUs; shot: 100 frames, {a.chunk} frames per task, "
-          f"--cpus-per-task {a.cpus_per_task}")
+          f"--cpus-per-task {a.cpus_per_task}; SchedulerParameters={a.scheduler_parameters or '(defaults)'}")
     print(f"surface + render, median of {a.rounds}: run --from surface {ml:.1f} s, farm {mf:.1f} s, "
           f"farm/local {mf / ml:.2f}")
     if not a.skip_overhead:
-        print(f"empty array of 100 tasks, submit to all done: median {statistics.median(empty):.1f} s "
+        print(f"empty array of 100 tasks, submit to all done: {statistics.median(empty):.1f} s "
               f"= {statistics.median(empty) / 100 * 1000:.0f} ms per task")
         print(f"one empty job, submit to done: median {statistics.median(single):.2f} s")
     if not a.work:

@@ -127,6 +127,12 @@ Plan planSubmission(const SubmitOptions& o) {
   const std::string exe = o.sphfx.empty() ? executablePath() : o.sphfx;
   plan.sphfx = exe;
 
+  // The simulate job resumes from the shot's restart file, which must belong to this scene.
+  if (holdsOtherSimulation(plan.shotDir, resolved))
+    throw InputError(
+        fmt::format("{}: holds a simulation of another scene (manifest.json simulate.scene); "
+                    "submit to a new shot folder",
+                    plan.shotDir));
   const bool simulated = simulationComplete(plan.shotDir, resolved);
   const std::string farm = farmDir(plan.shotDir);
   if (!simulated)

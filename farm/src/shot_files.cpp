@@ -32,6 +32,11 @@ bool simulationComplete(const std::string& shotDir, const ManifestJson& sceneJso
   return s.value("status", "") == "complete" && s.contains("scene") && s["scene"] == sceneJson;
 }
 
+bool holdsOtherSimulation(const std::string& shotDir, const ManifestJson& sceneJson) {
+  const ManifestJson m = readManifest(shotDir);
+  return m.contains("simulate") && m["simulate"].contains("scene") && m["simulate"]["scene"] != sceneJson;
+}
+
 namespace {
 
 std::string sourceName(const Scene& scene) {

@@ -19,6 +19,9 @@ std::string farmScenePath(const std::string& shotDir);
 /// The simulation of exactly `sceneJson` (resolved) finished in this shot.
 bool simulationComplete(const std::string& shotDir, const ManifestJson& sceneJson);
 
+/// The shot holds (part of) a simulation of a scene other than `sceneJson`.
+bool holdsOtherSimulation(const std::string& shotDir, const ManifestJson& sceneJson);
+
 /// The frames of `range` whose outputs of `stage` ("simulate", "surface", "render") exist.
 int framesDone(const std::string& shotDir, const Scene& scene, const std::string& stage,
                const FrameRange& range);

@@ -8,7 +8,7 @@
       tasks together cover frames 1-23 once; nothing is written.
   dry_run_test.py --sphfx EXE --scene SCENE --work DIR bad
       unknown scheduler, bad chunk, bad CPU count, no sbatch on PATH, status/cancel of a shot never
-      submitted: each exits 2 with a message naming the problem.
+      submitted, a shot holding another scene's simulation: each exits 2 with a message naming it.
 """
 
 import argparse
@@ -106,6 +106,12 @@ def test_bad(args):
         (["farm", "cancel", shot], None, "no jobs recorded"),
         (["farm", "submit", "no_such_scene.json", "-o", shot, "--dry-run"], None, "no_such_scene.json"),
     ]
+    other = os.path.join(args.work, "other_scene_shot")
+    os.makedirs(other)
+    with open(os.path.join(other, "manifest.json"), "w") as f:
+        f.write('{"manifest_version": 1, "simulate": {"status": "complete", "scene": {"name": "another"}}}\n')
+    cases.append((["farm", "submit", args.scene, "-o", other, "--dry-run"], None,
+                  "holds a simulation of another scene"))
     for cmd, env, message in cases:
         r = sphfx(args, *cmd, env=env)
         if r.returncode != 2:

@@ -51,8 +51,9 @@ def node_line():
 
 
 class LocalSlurm:
-    def __init__(self, folder):
+    def __init__(self, folder, scheduler_parameters=""):
         self.folder = os.path.abspath(folder)
+        self.scheduler_parameters = scheduler_parameters
         self.bins = find_binaries()
         self.pids = {}
         self.conf = os.path.join(self.folder, "slurm.conf")
@@ -98,7 +99,7 @@ SlurmdTimeout=30
 InactiveLimit=0
 KillWait=5
 MinJobAge=600
-SchedulerParameters=defer_batch=0
+{'SchedulerParameters=' + self.scheduler_parameters if self.scheduler_parameters else '# SchedulerParameters: Slurm defaults'}
 {node_line()} State=UNKNOWN
 PartitionName=farm Nodes=ALL Default=YES MaxTime=INFINITE State=UP OverSubscribe=NO
 """

@@ -65,8 +65,8 @@ struct Plan {
 
 /// Works out the plan: validates the options, loads the scene, and checks the shot's files for which
 /// stages and chunks still have missing frames. Writes nothing.
-/// @throws InputError for an unknown scheduler, a bad chunk size or CPU count, a bad scene, or (unless
-/// dry-run) no sbatch on PATH.
+/// @throws InputError for an unknown scheduler, a bad chunk size or CPU count, a bad scene, a shot that
+/// holds a simulation of another scene, or (unless dry-run) no sbatch on PATH.
 Plan planSubmission(const SubmitOptions& options);
 
 /// The sbatch command line for `job` (argv, sbatch first). `dependencyJobId` is the id of the job of
