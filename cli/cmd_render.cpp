@@ -15,7 +15,7 @@ struct RenderArgs {
   std::string shot, frames, source, size, format, scene;
   int samples = 0;
   int contactEvery = 0;
-  bool movie = false, force = false;
+  bool movie = false, force = false, noContactSheet = false;
 };
 
 render::RenderShotOptions toOptions(const RenderArgs& a) {
@@ -31,6 +31,7 @@ render::RenderShotOptions toOptions(const RenderArgs& a) {
   if (!a.format.empty()) o.format = a.format == "exr" ? ImageFormat::Exr : ImageFormat::Png;
   o.movie = a.movie;
   o.force = a.force;
+  o.contactSheet = !a.noContactSheet;
   if (a.contactEvery < 0) throw InputError("--contact-every: expected a positive frame step");
   o.contactEvery = a.contactEvery;
   return o;
@@ -54,6 +55,8 @@ void addRenderCommand(CLI::App& app) {
                   "Scene file (default: the one the simulation recorded in the manifest)");
   cmd->add_option("--contact-every", args->contactEvery,
                   "Contact sheet of every Nth frame (default: ~12 frames)");
+  cmd->add_flag("--no-contact-sheet", args->noContactSheet,
+                "Frames only, no contact sheet (a farm chunk; the shot's last job writes the sheet)");
   cmd->add_flag("--movie", args->movie, "Also assemble an MP4 (H.264) with ffmpeg, if installed");
   cmd->add_flag("--force", args->force, "Re-render frames that are already up to date");
   auto gl = addGLOptions(cmd);

@@ -26,5 +26,6 @@ void addRenderCommand(CLI::App& app);
 void addSimulateCommand(CLI::App& app);
 void addRunCommand(CLI::App& app);
 void addInspectCommand(CLI::App& app);
+void addFarmCommand(CLI::App& app);
 
 }  // namespace sphfx::cli

@@ -30,6 +30,7 @@ int main(int argc, char** argv) {
   sphfx::cli::addRenderCommand(app);
   sphfx::cli::addRunCommand(app);
   sphfx::cli::addInspectCommand(app);
+  sphfx::cli::addFarmCommand(app);
 
   try {
     app.parse(argc, argv);

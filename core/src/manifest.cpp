@@ -4,6 +4,8 @@
 #include <sys/file.h>
 #include <unistd.h>
 
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
 
 #include "sphfx/core/error.h"
@@ -34,7 +36,15 @@ void updateManifest(const std::string& shotDir, const std::function<void(Manifes
   const std::string lockPath = (fs::path(shotDir) / ".manifest.lock").string();
   const int fd = ::open(lockPath.c_str(), O_CREAT | O_RDWR | O_CLOEXEC, 0644);
   if (fd < 0) throw IoError(lockPath + ": cannot open the manifest lock");
-  ::flock(fd, LOCK_EX);
+  // flock() locks are per open file description, so the lock excludes other processes and other
+  // threads of this one alike (each call opens the lock file anew). On NFS Linux maps them to byte-range
+  // locks, which the server arbitrates between nodes.
+  while (::flock(fd, LOCK_EX) != 0) {
+    if (errno == EINTR) continue;
+    const int error = errno;
+    ::close(fd);
+    throw IoError(lockPath + ": cannot lock the manifest: " + std::strerror(error));
+  }
   try {
     ManifestJson m = readManifest(shotDir);
     edit(m);

@@ -256,10 +256,13 @@ RenderShotResult renderShot(const Scene& scene, const RenderShotOptions& options
     progress.update(int64_t(i + 1), fmt::format("frame {} {:.2f}s", frame, seconds));
   }
   progress.finish(fmt::format("{} rendered, {} up to date", result.rendered, result.skipped));
-  result.contactSheet = writeContactSheet(options.shotDir, s, frames, options.contactEvery);
+  if (!options.contactSheet && !options.movie) return result;
+  if (options.contactSheet)
+    result.contactSheet = writeContactSheet(options.shotDir, s, frames, options.contactEvery);
   if (options.movie) result.movie = writeMovie(options.shotDir, s, scene, frames);
   updateManifest(options.shotDir, [&](ManifestJson& m) {
-    m["render"]["contact_sheet"] = fs::path(result.contactSheet).filename().string();
+    if (!result.contactSheet.empty())
+      m["render"]["contact_sheet"] = fs::path(result.contactSheet).filename().string();
     if (!result.movie.empty()) m["render"]["movie"] = fs::path(result.movie).filename().string();
   });
   return result;

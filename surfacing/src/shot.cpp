@@ -205,7 +205,10 @@ SurfaceRunReport surfaceShot(const SurfaceJob& job) {
   const bool sameParams =
       before.contains("surface") && before["surface"].value("params", ManifestJson()) == params;
   updateManifest(job.shotDir, [&](ManifestJson& m) {
-    if (!sameParams) m["surface"] = ManifestJson::object();
+    // Decided again under the lock: another process (a farm task of another chunk) may have reset the
+    // section to these parameters since `before` was read, and resetting it again would drop its frames.
+    if (!m.contains("surface") || m["surface"].value("params", ManifestJson()) != params)
+      m["surface"] = ManifestJson::object();
     m["surface"]["params"] = params;
     if (!m["surface"].contains("frames")) m["surface"]["frames"] = ManifestJson::object();
   });

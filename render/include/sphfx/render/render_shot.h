@@ -20,9 +20,10 @@ struct RenderShotOptions {
   std::optional<RenderSource> source;
   std::optional<int> width, height, samples;
   std::optional<ImageFormat> format;
-  bool force = false;    ///< re-render frames that are already newer than their inputs
-  bool movie = false;    ///< assemble an MP4 with ffmpeg when it is on PATH (else a warning)
-  int contactEvery = 0;  ///< contact sheet of every Nth frame; 0 picks N for about 12 thumbnails
+  bool force = false;        ///< re-render frames that are already newer than their inputs
+  bool movie = false;        ///< assemble an MP4 with ffmpeg when it is on PATH (else a warning)
+  int contactEvery = 0;      ///< contact sheet of every Nth frame; 0 picks N for about 12 thumbnails
+  bool contactSheet = true;  ///< false: frames only (a farm task of a chunk; the last job writes the sheet)
 };
 
 struct RenderShotResult {
