@@ -242,26 +242,19 @@ std::string Simulator::whereDensest() const {
   return where;
 }
 
-SimulatorState Simulator::sortedState() const {
+SimulatorState Simulator::downloadState(const GpuBuffer& position, const GpuBuffer& velocity) const {
   glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
   SimulatorState s;
   s.frame = frame_;
   s.position.resize(count_);
   s.velocity.resize(count_);
-  pos_.download(s.position.data(), size_t(count_) * 16);
-  vel_.download(s.velocity.data(), size_t(count_) * 16);
+  position.download(s.position.data(), size_t(count_) * 16);
+  velocity.download(s.velocity.data(), size_t(count_) * 16);
   return s;
 }
 
 SimulatorState Simulator::saveState() const {
-  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-  SimulatorState s;
-  s.frame = frame_;
-  s.position.resize(count_);
-  s.velocity.resize(count_);
-  posIn_.download(s.position.data(), size_t(count_) * 16);
-  velIn_.download(s.velocity.data(), size_t(count_) * 16);
-  return s;
+  return downloadState(posIn_, velIn_);
 }
 
 bool Simulator::cachesDensity() const {
@@ -287,7 +280,7 @@ void Simulator::refreshFrameDensity() {
 
 ParticleFrame Simulator::cacheFrame() const {
   // With cached density the sorted copies hold the frame's state in the attributes' order.
-  const SimulatorState s = cachesDensity() ? sortedState() : saveState();
+  const SimulatorState s = cachesDensity() ? downloadState(pos_, vel_) : saveState();
   ParticleFrame f;
   f.frame = frame_;
   f.time = scene_.frameTime(frame_);

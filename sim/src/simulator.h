@@ -76,7 +76,7 @@ class Simulator {
   void startFrame(double t0, double t1);
   void refreshFrameDensity();
   bool cachesDensity() const;
-  SimulatorState sortedState() const;
+  SimulatorState downloadState(const GpuBuffer& position, const GpuBuffer& velocity) const;
   void checkHealth(const SimState& s) const;
   std::string whereDensest() const;
 
