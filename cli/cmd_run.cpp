@@ -119,7 +119,7 @@ void addRunCommand(CLI::App& app) {
   auto gl = addGLOptions(cmd);
   cmd->callback([o, gl] {
     const auto start = std::chrono::steady_clock::now();
-    const Scene scene = loadScene(o->sceneFile, o->sets);
+    const Scene scene = loadSceneAndGeometry(o->sceneFile, o->sets);
     // Without --from every stage skips what is done; with it, that stage and the later ones are redone
     // and the earlier ones are not run at all.
     const bool restart = !o->from.empty();

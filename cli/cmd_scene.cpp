@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "commands.h"
+#include "sphfx/core/collider_geometry.h"
 #include "sphfx/core/error.h"
 #include "sphfx/core/log.h"
 #include "sphfx/core/scene.h"
@@ -23,8 +24,11 @@ void addSceneCommand(CLI::App& app) {
       return;
     }
     if (file->empty()) throw InputError("scene: expected a SCENE file (or --schema)");
-    const Scene scene = loadScene(*file, *sets);
+    std::vector<size_t> triangles;
+    const Scene scene = loadSceneAndGeometry(*file, *sets, &triangles);
     std::printf("%s\n", sceneToJson(scene).dump(2).c_str());
+    for (size_t i = 0; i < triangles.size(); ++i)
+      if (triangles[i] > 0) logInfo(fmt::format("collider {}: {} triangles", i, triangles[i]));
     logInfo(fmt::format("{}: valid; {} particles, kernel radius {:g} m, particle mass {:g} kg, {} frames",
                         *file, countInitialParticles(scene), scene.kernelRadius(), scene.particleMass(),
                         scene.time.endFrame - scene.time.startFrame + 1));

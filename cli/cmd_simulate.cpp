@@ -22,7 +22,7 @@ void addSimulateCommand(CLI::App& app) {
   auto sets = addSetOption(cmd);
   auto gl = addGLOptions(cmd);
   cmd->callback([=] {
-    const Scene scene = loadScene(*file, *sets);
+    const Scene scene = loadSceneAndGeometry(*file, *sets);
     sim::SimulationOptions options;
     options.shotDir = *shot;
     options.resume = *resume;

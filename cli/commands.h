@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "sphfx/core/scene.h"
 #include "sphfx/gpu/gl_context.h"
 
 namespace sphfx::cli {
@@ -16,6 +17,10 @@ std::shared_ptr<GLContextOptions> addGLOptions(CLI::App* cmd);
 std::string resolveShippedFile(std::string path);
 /// Adds repeatable --set path=value to `cmd`.
 std::shared_ptr<std::vector<std::string>> addSetOption(CLI::App* cmd);
+/// loadScene, then the colliders' geometry files read and checked (checkColliderGeometry), errors
+/// prefixed with the scene file: bad geometry fails before a shot starts. Returns the triangle counts.
+Scene loadSceneAndGeometry(const std::string& file, const std::vector<std::string>& sets,
+                           std::vector<size_t>* triangles = nullptr);
 
 void addInfoCommand(CLI::App& app);
 void addSceneCommand(CLI::App& app);

@@ -1,4 +1,6 @@
 #include "commands.h"
+#include "sphfx/core/collider_geometry.h"
+#include "sphfx/core/error.h"
 
 #include "sphfx/core/data_files.h"
 
@@ -30,6 +32,18 @@ std::shared_ptr<std::vector<std::string>> addSetOption(CLI::App* cmd) {
       ->take_all()
       ->allow_extra_args(false);
   return sets;
+}
+
+Scene loadSceneAndGeometry(const std::string& file, const std::vector<std::string>& sets,
+                           std::vector<size_t>* triangles) {
+  Scene scene = loadScene(file, sets);
+  try {
+    const std::vector<size_t> counts = checkColliderGeometry(scene);
+    if (triangles) *triangles = counts;
+  } catch (const InputError& e) {
+    throw InputError(file + ": " + e.what());
+  }
+  return scene;
 }
 
 }  // namespace sphfx::cli

@@ -1,4 +1,4 @@
-/* Binding points of the simulation stage (shader storage 0-23, uniform block SPHFX_UBO_SIM_PARAMS).
+/* Binding points of the simulation stage (shader storage 0-24, uniform block SPHFX_UBO_SIM_PARAMS).
  * Preprocessor-only; included by bindings.h. C++ mirrors: sim/include/sphfx/sim/gpu_types.h. */
 #ifndef SPHFX_SIM_BINDINGS_H
 #define SPHFX_SIM_BINDINGS_H
@@ -22,6 +22,7 @@
 #define SPHFX_SSBO_SIM_DISPATCH 15 /* indirect dispatch arguments, then their live values */
 #define SPHFX_SSBO_SIM_NEIGHBORS 16 /* WCSPH: neighbours found by sim_density, used by sim_force */
 #define SPHFX_SSBO_SIM_BOUNDARY_PRESSURE 17 /* WCSPH: float p_b / rho_b^2 per sorted boundary sample */
+#define SPHFX_SSBO_SIM_COLLIDER_FIELD 24 /* float: the mesh/vdb colliders' signed distances, one after another */
 
 /* DFSPH passes (sim_dfsph_*.comp; 16 and 17 are free there: no DFSPH program uses the WCSPH buffers) */
 #define SPHFX_SSBO_SIM_DFSPH_PARTICLE 16  /* vec4 per sorted particle: factor, neighbours, stiffness totals */

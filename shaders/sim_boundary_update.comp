@@ -1,5 +1,6 @@
-// Moves the collider boundary samples to the start of the substep (keyframed translation) and gives
-// them the collider's velocity, so moving colliders push and drag the fluid. Wall samples stay put.
+// Moves the collider boundary samples to the start of the substep (keyframed rigid motion) and gives
+// them the body's velocity there (v + omega x r), so moving colliders push and drag the fluid. Wall
+// samples stay put.
 #include "sph_params.glsl"
 #include "sph_colliders.glsl"
 layout(local_size_x = SIM_WG) in;
@@ -13,8 +14,12 @@ void main() {
   if (i >= simCounts.y) return;
   vec4 r = rest[i];
   uint b = body[i];
-  vec3 offset = vec3(0.0), v = vec3(0.0);
-  if (b != 0xffffffffu) sphColliderMotion(b, float(stateTime), offset, v);
-  outPos[i] = vec4(r.xyz + offset, r.w);
+  vec3 x = r.xyz, v = vec3(0.0);
+  if (b != 0xffffffffu) {
+    SphColliderPose pose = sphColliderPose(b, float(stateTime));
+    x = sphColliderToWorld(b, pose, r.xyz);
+    v = sphColliderVelocityAt(b, pose, x);
+  }
+  outPos[i] = vec4(x, r.w);
   outVel[i] = vec4(v, 0.0);
 }

@@ -1,59 +1,164 @@
-// Colliders: shapes at rest plus keyframed translation. C++ mirror: sphfx::sim::ColliderGpu.
+// Colliders: shapes at rest plus keyframed rigid motion. C++ mirror: sphfx::sim::ColliderGpu; the
+// motion is sphfx::colliderPose() (core/collider_motion.h), which fills the key table.
 struct SimCollider {
-  vec4 shapeA;  // box: min corner; sphere: centre, w = radius
-  vec4 shapeB;  // box: max corner
-  uvec4 info;   // x: 0 box / 1 sphere, y: first key, z: key count
+  vec4 shapeA;  // box: min corner; sphere: centre, w = radius; field: voxel (0,0,0)'s centre, w = voxel
+  vec4 shapeB;  // box: max corner; field: voxel counts
+  vec4 pivot;   // xyz: the rest pivot rotations turn about
+  uvec4 info;   // x: 0 box / 1 sphere / 2 field, y: first key, z: key count, w: field's first value
 };
 layout(std430, binding = SPHFX_SSBO_SIM_COLLIDERS) readonly buffer SimColliders { SimCollider colliders[]; };
-// x: key time, yzw: offset from the rest placement
+// Three per key: (time, offset from the rest placement), the rotation quaternion (xyzw), the angular
+// velocity (rad/s, world) of the segment that starts at the key.
 layout(std430, binding = SPHFX_SSBO_SIM_COLLIDER_KEYS) readonly buffer SimColliderKeys { vec4 colliderKeys[]; };
+#if defined(HAS_FIELD_COLLIDERS)
+layout(std430, binding = SPHFX_SSBO_SIM_COLLIDER_FIELD) readonly buffer SimColliderField { float colliderField[]; };
+#endif
 
-// Translation and velocity of collider c at time t: linear between keys, held outside them.
-void sphColliderMotion(uint c, float t, out vec3 offset, out vec3 velocity) {
-  uint first = colliders[c].info.y, n = colliders[c].info.z;
-  offset = vec3(0.0);
-  velocity = vec3(0.0);
-  if (n == 0u) return;
-  vec4 k0 = colliderKeys[first];
-  offset = k0.yzw;
-  if (t <= k0.x) return;
-  for (uint k = 1u; k < n; ++k) {
-    vec4 k1 = colliderKeys[first + k];
-    if (t < k1.x) {
-      float s = (t - k0.x) / (k1.x - k0.x);
-      offset = mix(k0.yzw, k1.yzw, s);
-      velocity = (k1.yzw - k0.yzw) / (k1.x - k0.x);
-      return;
-    }
-    k0 = k1;
-    offset = k0.yzw;
-  }
+struct SphColliderPose {
+  vec3 offset;    // translation of the pivot
+  vec4 rotation;  // about the pivot, xyzw
+  vec3 velocity;  // of the pivot
+  vec3 omega;     // angular velocity
+};
+
+vec4 sphQuatMul(vec4 a, vec4 b) {
+  return vec4(a.w * b.xyz + b.w * a.xyz + cross(a.xyz, b.xyz), a.w * b.w - dot(a.xyz, b.xyz));
+}
+vec3 sphQuatRotate(vec4 q, vec3 v) {
+  vec3 t = 2.0 * cross(q.xyz, v);
+  return v + q.w * t + cross(q.xyz, t);
+}
+vec4 sphQuatFromRotationVector(vec3 r) {
+  float angle = length(r);
+  return angle < 1e-30 ? vec4(0, 0, 0, 1) : vec4(r * (sin(0.5 * angle) / angle), cos(0.5 * angle));
 }
 
+// Pose of collider c at time t: linear translation and constant-rate rotation between keys, held
+// outside them.
+SphColliderPose sphColliderPose(uint c, float t) {
+  SphColliderPose p = SphColliderPose(vec3(0.0), vec4(0, 0, 0, 1), vec3(0.0), vec3(0.0));
+  uint first = colliders[c].info.y, n = colliders[c].info.z;
+  if (n == 0u) return p;
+  uint k0 = 3u * first;
+  p.offset = colliderKeys[k0].yzw;
+  p.rotation = colliderKeys[k0 + 1u];
+  if (t <= colliderKeys[k0].x) return p;
+  for (uint k = 1u; k < n; ++k) {
+    uint k1 = 3u * (first + k);
+    if (t < colliderKeys[k1].x) {
+      float span = colliderKeys[k1].x - colliderKeys[k0].x, since = t - colliderKeys[k0].x;
+      p.offset = mix(colliderKeys[k0].yzw, colliderKeys[k1].yzw, since / span);
+      p.velocity = (colliderKeys[k1].yzw - colliderKeys[k0].yzw) / span;
+#if defined(SIM_COLLIDER_ROTATION)
+      p.omega = colliderKeys[k0 + 2u].xyz;
+      p.rotation = sphQuatMul(sphQuatFromRotationVector(p.omega * since), colliderKeys[k0 + 1u]);
+#endif
+      return p;
+    }
+    k0 = k1;
+    p.offset = colliderKeys[k0].yzw;
+    p.rotation = colliderKeys[k0 + 1u];
+  }
+  return p;
+}
+
+// World point -> rest placement of collider c, and back; without rotating colliders, a translation.
+vec3 sphColliderToRest(uint c, SphColliderPose p, vec3 x) {
+#if defined(SIM_COLLIDER_ROTATION)
+  vec3 pivot = colliders[c].pivot.xyz;
+  return pivot + sphQuatRotate(vec4(-p.rotation.xyz, p.rotation.w), x - pivot - p.offset);
+#else
+  return x - p.offset;
+#endif
+}
+vec3 sphColliderToWorld(uint c, SphColliderPose p, vec3 r) {
+#if defined(SIM_COLLIDER_ROTATION)
+  vec3 pivot = colliders[c].pivot.xyz;
+  return pivot + p.offset + sphQuatRotate(p.rotation, r - pivot);
+#else
+  return r + p.offset;
+#endif
+}
+vec3 sphColliderDirectionToWorld(SphColliderPose p, vec3 n) {
+#if defined(SIM_COLLIDER_ROTATION)
+  return sphQuatRotate(p.rotation, n);
+#else
+  return n;
+#endif
+}
+// Velocity of the body's material at world point x: v + omega x r.
+vec3 sphColliderVelocityAt(uint c, SphColliderPose p, vec3 x) {
+#if defined(SIM_COLLIDER_ROTATION)
+  return p.velocity + cross(p.omega, x - colliders[c].pivot.xyz - p.offset);
+#else
+  return p.velocity;
+#endif
+}
+
+#if defined(HAS_FIELD_COLLIDERS)
+// Trilinear signed distance of field collider c at rest-frame point r and its gradient direction
+// (outward). Outside the voxel block: the distance to the block added, pointing away from it.
+float sphFieldDistance(uint c, vec3 r, out vec3 normal) {
+  SimCollider f = colliders[c];
+  vec3 g = (r - f.shapeA.xyz) / f.shapeA.w, dims = f.shapeB.xyz;
+  vec3 cl = clamp(g, vec3(0.0), dims - 1.0);
+  ivec3 i0 = min(ivec3(cl), ivec3(dims) - 2);
+  vec3 t = cl - vec3(i0);
+  uint nx = uint(dims.x), nxy = nx * uint(dims.y);
+  uint base = f.info.w + uint(i0.z) * nxy + uint(i0.y) * nx + uint(i0.x);
+  float c000 = colliderField[base], c100 = colliderField[base + 1u];
+  float c010 = colliderField[base + nx], c110 = colliderField[base + nx + 1u];
+  float c001 = colliderField[base + nxy], c101 = colliderField[base + nxy + 1u];
+  float c011 = colliderField[base + nxy + nx], c111 = colliderField[base + nxy + nx + 1u];
+  float d = mix(mix(mix(c000, c100, t.x), mix(c010, c110, t.x), t.y),
+                mix(mix(c001, c101, t.x), mix(c011, c111, t.x), t.y), t.z);
+  vec3 grad = vec3(mix(mix(c100 - c000, c110 - c010, t.y), mix(c101 - c001, c111 - c011, t.y), t.z),
+                   mix(mix(c010 - c000, c110 - c100, t.x), mix(c011 - c001, c111 - c101, t.x), t.z),
+                   mix(mix(c001 - c000, c101 - c100, t.x), mix(c011 - c010, c111 - c110, t.x), t.y));
+  vec3 away = g - cl;
+  float outside = length(away);
+  if (outside > 0.0) grad = away;
+  float len = length(grad);
+  normal = len > 1e-20 ? grad / len : vec3(0, 1, 0);
+  return d + outside * f.shapeA.w;
+}
+#endif
+
 // Pushes a particle at x out of collider c (placed for time t) to `margin` outside its surface, and
-// removes the velocity component into the collider relative to the collider's own velocity.
+// removes the velocity component into the collider relative to the body's velocity there.
 void sphProjectOutOfCollider(uint c, float t, float margin, inout vec3 x, inout vec3 v) {
-  vec3 offset, cv;
-  sphColliderMotion(c, t, offset, cv);
+  SphColliderPose pose = sphColliderPose(c, t);
+  vec3 r = sphColliderToRest(c, pose, x);
   vec3 n = vec3(0.0);
-  if (colliders[c].info.x == 0u) {
-    vec3 lo = colliders[c].shapeA.xyz + offset - margin, hi = colliders[c].shapeB.xyz + offset + margin;
-    if (any(lessThanEqual(x, lo)) || any(greaterThanEqual(x, hi))) return;
-    vec3 toLo = x - lo, toHi = hi - x;  // both positive inside: leave through the nearest face
+  uint shape = colliders[c].info.x;
+  if (shape == 0u) {
+    vec3 lo = colliders[c].shapeA.xyz - margin, hi = colliders[c].shapeB.xyz + margin;
+    if (any(lessThanEqual(r, lo)) || any(greaterThanEqual(r, hi))) return;
+    vec3 toLo = r - lo, toHi = hi - r;  // both positive inside: leave through the nearest face
     float best = toLo.x;
     n = vec3(-1, 0, 0);
     for (int k = 0; k < 3; ++k) {
       if (toLo[k] < best) { best = toLo[k]; n = vec3(0.0); n[k] = -1.0; }
       if (toHi[k] < best) { best = toHi[k]; n = vec3(0.0); n[k] = 1.0; }
     }
-    x += n * best;
-  } else {
-    vec3 d = x - (colliders[c].shapeA.xyz + offset);
-    float r = colliders[c].shapeA.w + margin, len = length(d);
-    if (len >= r) return;
+    r += n * best;
+  } else if (shape == 1u) {
+    vec3 d = r - colliders[c].shapeA.xyz;
+    float rad = colliders[c].shapeA.w + margin, len = length(d);
+    if (len >= rad) return;
     n = len > 1e-12 ? d / len : vec3(0, 1, 0);
-    x += n * (r - len);
+    r += n * (rad - len);
+  } else {
+#if defined(HAS_FIELD_COLLIDERS)
+    float d = sphFieldDistance(c, r, n);
+    if (d >= margin) return;
+    r += n * (margin - d);
+#else
+    return;
+#endif
   }
-  float vn = dot(v - cv, n);
+  x = sphColliderToWorld(c, pose, r);
+  n = sphColliderDirectionToWorld(pose, n);
+  float vn = dot(v - sphColliderVelocityAt(c, pose, x), n);
   if (vn < 0.0) v -= vn * n;
 }

@@ -102,7 +102,9 @@ double readBinary(std::istream& in, const std::string& t, const std::string& pat
   return as(double{});
 }
 
-void computeNormals(TriangleMesh& m) {
+}  // namespace
+
+void computeVertexNormals(TriangleMesh& m) {
   m.normals.assign(m.positions.size(), {0, 0, 0});
   for (const auto& t : m.triangles) {
     const auto &a = m.positions[t[0]], &b = m.positions[t[1]], &c = m.positions[t[2]];
@@ -119,8 +121,6 @@ void computeNormals(TriangleMesh& m) {
       for (float& c : n) c /= len;
   }
 }
-
-}  // namespace
 
 TriangleMesh readPly(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -190,7 +190,7 @@ TriangleMesh readPly(const std::string& path) {
       if (i >= mesh.positions.size())
         throw InputError(
             fmt::format("{}: face index {} is past the {} vertices", path, i, mesh.positions.size()));
-  if (!hasNormals) computeNormals(mesh);
+  if (!hasNormals) computeVertexNormals(mesh);
   return mesh;
 }
 

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -283,7 +284,12 @@ std::shared_ptr<const Object<Keyframe>> keyframeSchema() {
   return makeSchema<Keyframe>([](Object<Keyframe>& o) {
     o.number("time", &Keyframe::time, 0, "s", Range::any(), "Time of the key (frame start_frame is 0 s).")
         .vec3("offset", &Keyframe::offset, {0, 0, 0}, "m", Range::any(),
-              "Translation from the rest placement.");
+              "Translation from the rest placement.")
+        .vec3("rotation", &Keyframe::rotation, {0, 0, 0}, "deg", Range::closed(-1e6, 1e6),
+              "Rotation from the rest placement about the collider's pivot (a box's or sphere's centre, a "
+              "mesh's or vdb's translation: the file's origin): degrees about x, then y, then z (fixed "
+              "axes). Interpolated as quaternions along the shortest arc: "
+              "keys less than 180 degrees apart turn the way they read.");
   });
 }
 
@@ -296,10 +302,32 @@ void checkIncreasingTimes(const std::vector<K>& keys, const std::string& path) {
           fmt::format("expected times in increasing order, got {} after {}", keys[i].time, keys[i - 1].time));
 }
 
+const std::vector<std::pair<std::string, Shape>> kColliderShapes = {
+    {"box", Shape::Box}, {"sphere", Shape::Sphere}, {"mesh", Shape::Mesh}, {"vdb", Shape::Vdb}};
+
+bool isField(const Collider& c) {
+  return c.isField();
+}
+bool isMesh(const Collider& c) {
+  return c.shape == Shape::Mesh;
+}
+bool isVdb(const Collider& c) {
+  return c.shape == Shape::Vdb;
+}
+
+// Box and sphere colliders as fluid blocks; mesh and vdb colliders need their file.
+void checkCollider(const Collider& c, const Json& raw, const std::string& path) {
+  if (!c.isField()) return checkShape(c, raw, path);
+  const std::string shape = c.shape == Shape::Mesh ? "mesh" : "vdb";
+  if (c.file.empty()) throw SchemaError(path, "a " + shape + " collider needs \"file\"");
+}
+
 std::shared_ptr<const Object<Collider>> colliderSchema() {
   return makeSchema<Collider>([](Object<Collider>& o) {
     o.text("name", &Collider::name, "", "Name shown in logs and renders.")
-        .choice("shape", &Collider::shape, Shape::Box, kShapes, "Shape of the collider.")
+        .choice("shape", &Collider::shape, Shape::Box, kColliderShapes,
+                "Shape of the collider: an analytic box or sphere, a triangle mesh file, or an OpenVDB "
+                "level set.")
         .vec3("min", &Collider::min, {0, 0, 0}, "m", Range::any(), "Lower corner at rest.")
         .onlyWhen(isBox<Collider>, "box")
         .vec3("max", &Collider::max, {0, 0, 0}, "m", Range::any(), "Upper corner at rest.")
@@ -308,10 +336,32 @@ std::shared_ptr<const Object<Collider>> colliderSchema() {
         .onlyWhen(isSphere<Collider>, "sphere")
         .number("radius", &Collider::radius, 0, "m", Range::nonNegative(), "Radius.")
         .onlyWhen(isSphere<Collider>, "sphere")
+        .text("file", &Collider::file, "",
+              "Geometry file, relative to the scene file: a triangle mesh (.obj, .ply, .stl; ASCII or "
+              "binary) or an OpenVDB file (.vdb) holding a level set (negative inside).")
+        .onlyWhen(isField, "mesh, vdb")
+        .text("grid", &Collider::grid, "",
+              "Name of the level-set grid in the file; empty: its first float grid.")
+        .onlyWhen(isVdb, "vdb")
+        .number("scale", &Collider::scale, 1, "", Range{0, 1e6, true, false},
+                "Uniform scale of the geometry about the file's origin, applied first.")
+        .onlyWhen(isField, "mesh, vdb")
+        .vec3("rotation", &Collider::rotation, {0, 0, 0}, "deg", Range::closed(-360, 360),
+              "Rest rotation about the file's origin after scaling: degrees about x, then y, then z.")
+        .onlyWhen(isField, "mesh, vdb")
+        .vec3("translation", &Collider::translation, {0, 0, 0}, "m", Range::any(),
+              "Rest translation, applied last.")
+        .onlyWhen(isField, "mesh, vdb")
+        .number("thickness", &Collider::thickness, 0, "m", Range::closed(0, 1e3),
+                "A mesh that is not closed (a terrain, a single plate) becomes a shell this thick "
+                "around its triangles; 0: the mesh must be closed (watertight), else the scene is "
+                "refused naming its open edges.")
+        .onlyWhen(isMesh, "mesh")
         .list("keyframes", &Collider::keyframes, keyframeSchema(), 0, kUnbounded,
-              "Keyframed translation, linear between keys, held outside them; empty: static.")
+              "Keyframed rigid motion (translation and rotation), held outside the keys; empty: static. "
+              "The fluid sees the wall velocity v + omega x r.")
         .check([](const Collider& c, const Json& raw, const std::string& path) {
-          checkShape(c, raw, path);
+          checkCollider(c, raw, path);
           checkIncreasingTimes(c.keyframes, path);
         });
   });
@@ -753,11 +803,33 @@ Scene parseScene(const Json& raw, const std::string& source) {
   return schema::readDocument(sceneSchema(), migrated, source);
 }
 
+namespace {
+// Collider files are named relative to the scene file; the loaded scene holds absolute paths, so that
+// the resolved scene (the shot's manifest, a farm job) reads the same files from any directory.
+void resolveColliderFiles(Scene& scene, const std::string& scenePath, const std::string& source) {
+  const std::filesystem::path base = std::filesystem::absolute(scenePath).parent_path();
+  for (size_t i = 0; i < scene.colliders.size(); ++i) {
+    Collider& c = scene.colliders[i];
+    if (!c.isField()) continue;
+    std::filesystem::path f(c.file);
+    if (f.is_relative()) f = base / f;
+    f = f.lexically_normal();
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(f, ec))
+      throw InputError(fmt::format("{}: /colliders/{}/file: no such file: {}", source, i, f.string()));
+    c.file = f.string();
+  }
+}
+}  // namespace
+
 Scene loadScene(const std::string& path, const std::vector<std::string>& overrides) {
   Json raw = schema::readJsonFile(path, "scene");
   migrateSceneJson(raw, path);
   for (const auto& o : overrides) applyOverride(raw, o);
-  return parseScene(raw, overrides.empty() ? path : path + " (with --set overrides)");
+  const std::string source = overrides.empty() ? path : path + " (with --set overrides)";
+  Scene scene = parseScene(raw, source);
+  resolveColliderFiles(scene, path, source);
+  return scene;
 }
 
 Json sceneToJson(const Scene& scene) {

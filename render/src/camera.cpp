@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "sphfx/core/collider_motion.h"
 #include "sphfx/core/error.h"
 
 namespace sphfx::render {
@@ -149,8 +150,7 @@ void fitClipPlanes(CameraView& view, const Vec3d& center, double radius) {
 }  // namespace
 
 Vec3d colliderOffset(const Collider& collider, double time) {
-  if (collider.keyframes.empty()) return {0, 0, 0};
-  return interpolateKeys(collider.keyframes, time, [](const Keyframe& k) { return k.offset; });
+  return colliderPose(collider, time).offset;
 }
 
 CameraView sceneCamera(const Scene& scene, double time, double aspect) {

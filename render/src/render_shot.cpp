@@ -11,6 +11,8 @@
 #include <filesystem>
 
 #include "renderer.h"
+#include "sphfx/core/collider_geometry.h"
+#include "sphfx/core/collider_motion.h"
 #include "sphfx/core/error.h"
 #include "sphfx/core/log.h"
 #include "sphfx/core/manifest.h"
@@ -97,22 +99,45 @@ bool upToDate(const std::string& output, const std::string& input) {
   return !ec && out >= in;
 }
 
-Stage makeStage(const Scene& scene, double time) {
+// The colliders' surfaces at rest, in the scene's frame (mesh and vdb colliders read once per shot).
+std::vector<TriangleMesh> colliderMeshes(const Scene& scene) {
+  std::vector<TriangleMesh> meshes;
+  for (const Collider& c : scene.colliders) {
+    if (c.shape == Shape::Box)
+      meshes.push_back(makeBox(c.min, c.max));
+    else if (c.shape == Shape::Sphere)
+      meshes.push_back(makeUvSphere(c.center, c.radius, 32, 64));
+    else
+      meshes.push_back(colliderRestMesh(c));
+  }
+  return meshes;
+}
+
+// The colliders placed for `time` (colliderPose: translation and rotation about the pivot).
+Stage makeStage(const Scene& scene, const std::vector<TriangleMesh>& restMeshes, double time) {
   Stage stage;
   stage.domain = scene.domain;
-  for (const Collider& c : scene.colliders) {
+  for (size_t i = 0; i < scene.colliders.size(); ++i) {
+    const ColliderPose pose = colliderPose(scene.colliders[i], time);
     Solid solid;
-    solid.mesh = c.shape == Shape::Box ? makeBox(c.min, c.max) : makeUvSphere(c.center, c.radius, 32, 64);
-    solid.offset = colliderOffset(c, time);
+    solid.mesh = restMeshes[i];
+    for (auto& p : solid.mesh.positions) {
+      const Vec3d w = pose.toWorld({p[0], p[1], p[2]});
+      p = {float(w[0]), float(w[1]), float(w[2])};
+    }
+    for (auto& n : solid.mesh.normals) {
+      const Vec3d w = rotate(pose.rotation, {n[0], n[1], n[2]});
+      n = {float(w[0]), float(w[1]), float(w[2])};
+    }
     stage.solids.push_back(std::move(solid));
   }
   return stage;
 }
 
-Image renderFrame(Renderer& renderer, const Scene& scene, const Settings& s, const std::string& input,
-                  int frame) {
+Image renderFrame(Renderer& renderer, const Scene& scene, const std::vector<TriangleMesh>& colliders,
+                  const Settings& s, const std::string& input, int frame) {
   const double time = scene.frameTime(frame);
-  const Stage stage = makeStage(scene, time);
+  const Stage stage = makeStage(scene, colliders, time);
   const CameraView camera = sceneCamera(scene, time, double(s.width) / s.height);
   if (s.source == RenderSource::Surface) return renderer.renderSurface(readPly(input), stage, camera);
   const ParticleFrame cache = readParticleCache(input);
@@ -236,6 +261,7 @@ RenderShotResult renderShot(const Scene& scene, const RenderShotOptions& options
   RenderShotResult result;
   result.renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
   std::unique_ptr<Renderer> renderer;  // created on the first frame that needs it: re-runs stay cheap
+  std::vector<TriangleMesh> colliders;
   Progress progress("render " + s.name(), int64_t(frames.size()));
   for (size_t i = 0; i < frames.size(); ++i) {
     const int frame = frames[i];
@@ -247,8 +273,11 @@ RenderShotResult renderShot(const Scene& scene, const RenderShotOptions& options
       continue;
     }
     const auto start = std::chrono::steady_clock::now();
-    if (!renderer) renderer = std::make_unique<Renderer>(s.width, s.height, s.samples);
-    writeImage(output, renderFrame(*renderer, scene, s, input, frame), s.format);
+    if (!renderer) {
+      renderer = std::make_unique<Renderer>(s.width, s.height, s.samples);
+      colliders = colliderMeshes(scene);
+    }
+    writeImage(output, renderFrame(*renderer, scene, colliders, s, input, frame), s.format);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     result.seconds += seconds;
     ++result.rendered;

@@ -1,12 +1,18 @@
 #include "boundary_akinci2012.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
 
 #include "bindings.h"
 #include "gpu_types.h"
 #include "sim_shaders.h"
+#include "sphfx/core/collider_motion.h"
+#include "sphfx/core/log.h"
 #include "sphfx/gpu/gl.h"
 
 namespace sphfx::sim {
@@ -81,7 +87,44 @@ void appendSphere(const P3& c, double r, double s, int layers, double psiPerVolu
 
 }  // namespace
 
-BoundarySamples sampleBoundaries(const Scene& scene) {
+ColliderFields buildColliderFields(const Scene& scene, const std::string& shotDir) {
+  ColliderFields fields(scene.colliders.size());
+  const FieldSpec spec = colliderFieldSpec(scene);
+  for (size_t c = 0; c < scene.colliders.size(); ++c) {
+    const Collider& col = scene.colliders[c];
+    if (!col.isField()) continue;
+    const auto t0 = std::chrono::steady_clock::now();
+    bool rebuilt = true;
+    const std::string cache = shotDir.empty() ? "" : colliderFieldPath(shotDir, c);
+    fields[c] = buildColliderField(col, c, spec, cache, &rebuilt);
+    const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const auto& d = fields[c].dims;
+    logInfo(fmt::format("collider {} ({}): distance field {} x {} x {} voxels of {} m, {} in {:.2f} s", c,
+                        col.name.empty() ? col.file : col.name, d[0], d[1], d[2], spec.voxel,
+                        rebuilt ? "built" : "read from the shot", sec));
+  }
+  return fields;
+}
+
+namespace {
+// Mesh and vdb colliders: the cell centres of the lattice over the solid's bounds (exact fit per axis,
+// as a box) that lie inside the surface, less than `layers` spacings deep.
+void appendField(const ColliderField& f, double s, int layers, double psiPerVolume, uint32_t body,
+                 BoundarySamples& out) {
+  const std::array<int, 3> m = latticeCells(f.solidMin, f.solidMax, s);
+  const double depth = layers * s;
+  appendLattice(f.solidMin, f.solidMax, m, {0, 0, 0}, psiPerVolume, body, out,
+                [&](const std::array<int, 3>& idx) {
+                  Vec3d p{};
+                  for (int a = 0; a < 3; ++a)
+                    p[a] = f.solidMin[a] + (idx[a] + 0.5) * (f.solidMax[a] - f.solidMin[a]) / double(m[a]);
+                  const double d = f.sample(p);
+                  return d <= 0 && d > -depth;
+                });
+}
+}  // namespace
+
+BoundarySamples sampleBoundaries(const Scene& scene, const ColliderFields& fields) {
   BoundarySamples out;
   const double s = scene.fluid.spacing;
   const int layers = boundaryLayers(scene);
@@ -110,29 +153,56 @@ BoundarySamples sampleBoundaries(const Scene& scene) {
                         if (idx[a] < layers || idx[a] >= m[a] - layers) return true;
                       return false;
                     });
-    } else {
+    } else if (col.shape == Shape::Sphere) {
       appendSphere(col.center, col.radius, s, layers, psiPerVolume, uint32_t(c), out);
+    } else {
+      if (c >= fields.size() || fields[c].distance.empty())
+        throw std::logic_error("sampleBoundaries: no field for collider " + std::to_string(c));
+      appendField(fields[c], s, layers, psiPerVolume, uint32_t(c), out);
     }
   }
   return out;
 }
 
 namespace {
-std::vector<ColliderGpu> colliderTable(const Scene& scene, std::vector<std::array<float, 4>>& keys) {
+// The collider table, three vec4 per key (time and offset; rotation quaternion xyzw; the angular
+// velocity of the segment that starts at the key) and the fields' values one after the other.
+std::vector<ColliderGpu> colliderTable(const Scene& scene, const ColliderFields& fields,
+                                       std::vector<std::array<float, 4>>& keys, std::vector<float>& values) {
   std::vector<ColliderGpu> table;
-  for (const Collider& c : scene.colliders) {
+  for (size_t i = 0; i < scene.colliders.size(); ++i) {
+    const Collider& c = scene.colliders[i];
     ColliderGpu g{};
-    const bool box = c.shape == Shape::Box;
-    for (int a = 0; a < 3; ++a) {
-      g.shapeA[a] = float(box ? c.min[a] : c.center[a]);
-      g.shapeB[a] = float(box ? c.max[a] : c.center[a]);
+    const Vec3d pivot = colliderPivot(c);
+    for (int a = 0; a < 3; ++a) g.pivot[a] = float(pivot[a]);
+    if (c.shape == Shape::Box) {
+      for (int a = 0; a < 3; ++a) g.shapeA[a] = float(c.min[a]), g.shapeB[a] = float(c.max[a]);
+      g.info[0] = 0;
+    } else if (c.shape == Shape::Sphere) {
+      for (int a = 0; a < 3; ++a) g.shapeA[a] = float(c.center[a]);
+      g.shapeA[3] = float(c.radius);
+      g.info[0] = 1;
+    } else {
+      const ColliderField& f = fields.at(i);
+      for (int a = 0; a < 3; ++a) g.shapeA[a] = float(f.origin[a]), g.shapeB[a] = float(f.dims[a]);
+      g.shapeA[3] = float(f.voxel);
+      g.info[0] = 2;
+      g.info[3] = uint32_t(values.size());
+      values.insert(values.end(), f.distance.begin(), f.distance.end());
     }
-    g.shapeA[3] = float(box ? 0.0 : c.radius);
-    g.info[0] = box ? 0 : 1;
-    g.info[1] = uint32_t(keys.size());
+    g.info[1] = uint32_t(keys.size() / 3);
     g.info[2] = uint32_t(c.keyframes.size());
-    for (const Keyframe& k : c.keyframes)
-      keys.push_back({float(k.time), float(k.offset[0]), float(k.offset[1]), float(k.offset[2])});
+    for (size_t k = 0; k < c.keyframes.size(); ++k) {
+      const Keyframe& key = c.keyframes[k];
+      const Quat q = quatFromEulerDegrees(key.rotation);
+      // The segment's angular velocity, as colliderPose() turns it (0 after the last key).
+      const ColliderPose pose = colliderPose(
+          c, k + 1 < c.keyframes.size() ? 0.5 * (key.time + c.keyframes[k + 1].time) : key.time + 1);
+      const Vec3d w = k + 1 < c.keyframes.size() ? pose.angularVelocity : Vec3d{0, 0, 0};
+      keys.push_back({float(key.time), float(key.offset[0]), float(key.offset[1]), float(key.offset[2])});
+      keys.push_back({float(q.x), float(q.y), float(q.z), float(q.w)});
+      keys.push_back({float(w[0]), float(w[1]), float(w[2]), 0.0f});
+    }
     table.push_back(g);
   }
   return table;
@@ -146,16 +216,18 @@ GpuBuffer makeBuffer(const std::vector<T>& v) {
 }
 }  // namespace
 
-BoundaryAkinci2012::BoundaryAkinci2012(const Scene& scene, DispatchGate& gate, const GridSpec& grid,
-                                       const ShaderDefines& defines)
+BoundaryAkinci2012::BoundaryAkinci2012(const Scene& scene, const ColliderFields& fields, DispatchGate& gate,
+                                       const GridSpec& grid, const ShaderDefines& defines)
     : gate_(&gate), moving_(!scene.colliders.empty()) {
-  const BoundarySamples samples = sampleBoundaries(scene);
+  const BoundarySamples samples = sampleBoundaries(scene, fields);
   count_ = uint32_t(samples.size());
   rest_ = makeBuffer(samples.rest);
   body_ = makeBuffer(samples.body);
   std::vector<std::array<float, 4>> keys;
-  colliders_ = makeBuffer(colliderTable(scene, keys));
+  std::vector<float> values;
+  colliders_ = makeBuffer(colliderTable(scene, fields, keys, values));
   keys_ = makeBuffer(keys);
+  field_ = makeBuffer(values);
   unsortedPos_ = makeBuffer(samples.rest);
   unsortedVel_ = makeBuffer(std::vector<std::array<float, 4>>(samples.size(), {0, 0, 0, 0}));
   pos_.resize(size_t(count_) * 16);
@@ -199,6 +271,7 @@ void BoundaryAkinci2012::bind() const {
   grid_->rowStart().bindTexture(SPHFX_TEX_SIM_BOUNDARY_CELL_START, GL_R32UI);
   colliders_.bindStorage(SPHFX_SSBO_SIM_COLLIDERS);
   keys_.bindStorage(SPHFX_SSBO_SIM_COLLIDER_KEYS);
+  field_.bindStorage(SPHFX_SSBO_SIM_COLLIDER_FIELD);
 }
 
 }  // namespace sphfx::sim

@@ -15,6 +15,7 @@
 
 #include "dispatch_gate.h"
 #include "neighbor_grid.h"
+#include "sphfx/core/collider_geometry.h"
 #include "sphfx/core/scene.h"
 #include "sphfx/gpu/gpu_buffer.h"
 #include "sphfx/gpu/shader_program.h"
@@ -33,17 +34,27 @@ struct BoundarySamples {
 /// solid samples over its whole kernel support.
 int boundaryLayers(const Scene& scene);
 
+/// The signed distance fields of the scene's mesh and vdb colliders, by collider index (analytic
+/// colliders: an empty field).
+using ColliderFields = std::vector<ColliderField>;
+
+/// Builds (or, with a `shotDir`, reads back from colliderFieldPath()) the fields of the scene's mesh and
+/// vdb colliders at colliderFieldSpec(); logs each one's voxel count and time.
+/// @throws InputError, IoError as buildColliderField.
+ColliderFields buildColliderFields(const Scene& scene, const std::string& shotDir = "");
+
 /// Samples the domain walls (a shell outside the domain, none on the faces of periodic axes) and every
 /// collider (a shell inside it, at rest) on a lattice about one fluid spacing apart, boundaryLayers()
-/// deep. Deterministic.
-BoundarySamples sampleBoundaries(const Scene& scene);
+/// deep. Mesh and vdb colliders take the cell centres of their bounds' lattice whose distance is in
+/// (-layers * spacing, 0] from `fields`, which must hold theirs. Deterministic.
+BoundarySamples sampleBoundaries(const Scene& scene, const ColliderFields& fields = {});
 
 class BoundaryAkinci2012 {
  public:
   /// Uploads the samples and colliders, builds the programs; static scenes sort the samples once
   /// here. Needs a current context. @throws GLError.
-  BoundaryAkinci2012(const Scene& scene, DispatchGate& gate, const GridSpec& grid,
-                     const ShaderDefines& defines);
+  BoundaryAkinci2012(const Scene& scene, const ColliderFields& fields, DispatchGate& gate,
+                     const GridSpec& grid, const ShaderDefines& defines);
 
   /// Moves the collider samples to the current substep's start time and re-sorts them (GPU work;
   /// nothing for scenes without colliders).
@@ -56,6 +67,9 @@ class BoundaryAkinci2012 {
   /// The dispatch gate's entry over the samples (one invocation per sample).
   uint32_t gateEntry() const { return entry_; }
   bool moving() const { return moving_; }
+  /// The samples placed for the latest update(), sorted by cell: xyz and psi, and velocity (tests).
+  const GpuBuffer& positions() const { return pos_; }
+  const GpuBuffer& velocities() const { return vel_; }
 
  private:
   void sort() const;
@@ -63,7 +77,7 @@ class BoundaryAkinci2012 {
   const DispatchGate* gate_;
   uint32_t count_;
   bool moving_;
-  GpuBuffer rest_, body_, unsortedPos_, unsortedVel_, pos_, vel_, colliders_, keys_;
+  GpuBuffer rest_, body_, unsortedPos_, unsortedVel_, pos_, vel_, colliders_, keys_, field_;
   std::unique_ptr<NeighborGrid> grid_;
   ShaderProgram update_;
   uint32_t entry_;

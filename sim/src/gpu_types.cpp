@@ -1,4 +1,5 @@
 #include "gpu_types.h"
+#include "sphfx/core/collider_motion.h"
 
 #include <algorithm>
 #include <cmath>
@@ -134,6 +135,10 @@ ShaderDefines simShaderDefines(const Scene& scene) {
   if (scene.fluid.viscosityModel == ViscosityModel::Artificial) d.set("VISCOSITY_ARTIFICIAL");
   if (usesWendland(scene)) d.set("KERNEL_WENDLAND_C2");
   if (!scene.colliders.empty()) d.set("HAS_COLLIDERS");
+  if (std::any_of(scene.colliders.begin(), scene.colliders.end(),
+                  [](const Collider& c) { return c.isField(); }))
+    d.set("HAS_FIELD_COLLIDERS");
+  if (anyColliderRotates(scene)) d.set("SIM_COLLIDER_ROTATION");
   if (scene.solver.method == Solver::DFSPH) d.set("SOLVER_DFSPH");
   if (scene.domain.isPeriodic(0)) d.set("SIM_PERIODIC_X");
   if (scene.domain.isPeriodic(2)) d.set("SIM_PERIODIC_Z");
@@ -176,6 +181,7 @@ std::vector<GpuBlockLayout> simGpuLayouts() {
       "SimColliders", false, SPHFX_SSBO_SIM_COLLIDERS, 0, "sim_boundary_update.comp", {}};
   colliders.members = {SPHFX_GPU_MEMBER(ColliderGpu, shapeA, "colliders[0].shapeA"),
                        SPHFX_GPU_MEMBER(ColliderGpu, shapeB, "colliders[0].shapeB"),
+                       SPHFX_GPU_MEMBER(ColliderGpu, pivot, "colliders[0].pivot"),
                        SPHFX_GPU_MEMBER(ColliderGpu, info, "colliders[0].info")};
   return {params, state, colliders};
 }

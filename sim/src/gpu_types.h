@@ -58,9 +58,10 @@ enum SimFailure : uint32_t {
 
 /// One element of the std430 array SimColliders::colliders[].
 struct ColliderGpu {
-  float shapeA[4];   ///< box: min corner; sphere: centre and radius
-  float shapeB[4];   ///< box: max corner
-  uint32_t info[4];  ///< shape (0 box, 1 sphere), first key, key count
+  float shapeA[4];  ///< box: min corner; sphere: centre and radius; field: voxel (0,0,0)'s centre, voxel size
+  float shapeB[4];  ///< box: max corner; field: voxel counts
+  float pivot[4];   ///< xyz: the rest pivot rotations turn about (colliderPivot())
+  uint32_t info[4];  ///< shape (0 box, 1 sphere, 2 field), first key, key count, field's first value
 };
 
 /// Normalisation factors of the kernels for support radius h (Mueller et al. 2003).

@@ -90,7 +90,7 @@ SimulationResult simulateShot(const Scene& scene, const SimulationOptions& o) {
   const FrameRange write = writtenRange(scene, o);
   const uint64_t hash = sceneStateHash(scene);
   std::filesystem::create_directories(std::filesystem::path(o.shotDir) / "cache");
-  Simulator sim(scene);
+  Simulator sim(scene, o.shotDir);
   SimulationResult result;
   result.particles = sim.particleCount();
   result.renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));

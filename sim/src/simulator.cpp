@@ -17,10 +17,11 @@
 namespace sphfx::sim {
 
 std::unique_ptr<PressureSolver> makePressureSolver(const Scene& scene, const DispatchGate& gate,
-                                                   const ShaderDefines& defines, uint32_t boundaryEntry) {
+                                                   const ShaderDefines& defines,
+                                                   const BoundaryAkinci2012& boundary) {
   switch (scene.solver.method) {  // one case per entry of pressureSolverRegistry()
     case Solver::WCSPH:
-      return std::make_unique<WCSPHSolver>(scene, gate, defines, boundaryEntry);
+      return std::make_unique<WCSPHSolver>(scene, gate, defines, boundary.gateEntry(), boundary.count());
     case Solver::DFSPH:
       return std::make_unique<DFSPHSolver>(scene, gate, defines, uint32_t(countInitialParticles(scene)));
   }
@@ -34,7 +35,8 @@ GpuBuffer vec4Buffer(uint32_t count) {
 }
 }  // namespace
 
-Simulator::Simulator(const Scene& scene) : scene_(scene), frame_(scene.time.startFrame) {
+Simulator::Simulator(const Scene& scene, const std::string& shotDir)
+    : scene_(scene), frame_(scene.time.startFrame) {
   const SeededParticles seeds = seedParticles(scene);
   count_ = uint32_t(seeds.position.size());
   if (count_ == 0) throw InputError("fluid.blocks: the blocks hold no particles at this spacing");
@@ -42,8 +44,9 @@ Simulator::Simulator(const Scene& scene) : scene_(scene), frame_(scene.time.star
   gate_ = std::make_unique<DispatchGate>(count_);
   const GridSpec spec = GridSpec::forScene(scene);
   grid_ = std::make_unique<NeighborGrid>(*gate_, spec, count_);
-  boundary_ = std::make_unique<BoundaryAkinci2012>(scene, *gate_, spec, defines_);
-  solver_ = makePressureSolver(scene, *gate_, defines_, boundary_->gateEntry());
+  boundary_ = std::make_unique<BoundaryAkinci2012>(scene, buildColliderFields(scene, shotDir), *gate_,
+                                                   spec, defines_);
+  solver_ = makePressureSolver(scene, *gate_, defines_, *boundary_);
   stepper_ = std::make_unique<SymplecticEuler>(*gate_, defines_);
   health_ = ShaderProgram::compute(simShaderTable(), "sim_health.comp", defines_);
 

@@ -34,16 +34,19 @@ struct SimulatorState {
   std::vector<std::array<float, 4>> velocity;
 };
 
-/// Builds the pressure solver the scene names; `boundaryEntry` is the gate's dispatch over the boundary
-/// samples. @throws InputError for a solver this build lacks.
+/// Builds the pressure solver the scene names over `boundary`'s samples. @throws InputError for a solver
+/// this build lacks.
 std::unique_ptr<PressureSolver> makePressureSolver(const Scene& scene, const DispatchGate& gate,
-                                                   const ShaderDefines& defines, uint32_t boundaryEntry);
+                                                   const ShaderDefines& defines,
+                                                   const BoundaryAkinci2012& boundary);
 
 class Simulator {
  public:
-  /// Seeds the scene's particles at its start frame. Needs a current GL context.
-  /// @throws InputError (no particles, unsupported solver), GLError.
-  explicit Simulator(const Scene& scene);
+  /// Seeds the scene's particles at its start frame. Mesh and vdb colliders' distance fields are read
+  /// from or cached in the shot `shotDir` (colliderFieldPath(); empty: built in memory). Needs a current
+  /// GL context. @throws InputError (no particles, unsupported solver, bad collider geometry), IoError,
+  /// GLError.
+  explicit Simulator(const Scene& scene, const std::string& shotDir = "");
 
   /// Simulates from the current frame to the next one.
   /// @throws SimulationError naming the frame, the substep and the cause when a health check fails.
@@ -68,6 +71,7 @@ class Simulator {
   /// Test access: the fluid grid after the latest substep, and the buffers it sorted into.
   const NeighborGrid& grid() const { return *grid_; }
   const GpuBuffer& sortedPositions() const { return pos_; }
+  const BoundaryAkinci2012& boundary() const { return *boundary_; }
 
  private:
   void substep();

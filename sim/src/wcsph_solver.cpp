@@ -16,14 +16,14 @@ ShaderDefines withNeighborList(ShaderDefines d) {
 }  // namespace
 
 WCSPHSolver::WCSPHSolver(const Scene& scene, const DispatchGate& gate, const ShaderDefines& defines,
-                         uint32_t boundaryEntry)
+                         uint32_t boundaryEntry, uint32_t boundarySamples)
     : gate_(&gate),
       boundaryEntry_(boundaryEntry),
       density_(ShaderProgram::compute(simShaderTable(), "sim_density.comp", withNeighborList(defines))),
       boundaryPressure_(ShaderProgram::compute(simShaderTable(), "sim_boundary_pressure.comp", defines)),
       force_(ShaderProgram::compute(simShaderTable(), "sim_force.comp", withNeighborList(defines))),
       neighbors_(std::max<size_t>(countInitialParticles(scene), 1) * 18 * 4),
-      boundaryPressures_(std::max<size_t>(sampleBoundaries(scene).size(), 1) * 4) {}
+      boundaryPressures_(std::max<size_t>(boundarySamples, 1) * 4) {}
 
 void WCSPHSolver::computeDensity(PassTimer& timer) const {
   timer.begin("density");

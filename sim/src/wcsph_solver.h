@@ -39,10 +39,10 @@ class PressureSolver {
 
 class WCSPHSolver : public PressureSolver {
  public:
-  /// `boundaryEntry` is the gate's dispatch over the boundary samples (BoundaryAkinci2012::gateEntry()).
-  /// @throws GLError if a program does not build.
+  /// `boundaryEntry` is the gate's dispatch over the `boundarySamples` boundary samples
+  /// (BoundaryAkinci2012::gateEntry(), count()). @throws GLError if a program does not build.
   WCSPHSolver(const Scene& scene, const DispatchGate& gate, const ShaderDefines& defines,
-              uint32_t boundaryEntry);
+              uint32_t boundaryEntry, uint32_t boundarySamples);
   const char* name() const override { return "wcsph"; }
   void computeAccelerations(PassTimer& timer) const override;
   void computeDensity(PassTimer& timer) const override;

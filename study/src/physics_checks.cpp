@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <limits>
 
+#include "sphfx/core/collider_motion.h"
 #include "sphfx/core/error.h"
 #include "sphfx/core/frame_files.h"
 
@@ -29,32 +30,19 @@ constexpr double kEnergyGrowthFraction = 0.01;
 // let the particle through and only the clamp held it.
 constexpr double kMinWallGapSpacings = 0.1;
 
-Vec3d colliderOffset(const Collider& c, double t) {
-  if (c.keyframes.empty()) return {0, 0, 0};
-  if (t <= c.keyframes.front().time) return c.keyframes.front().offset;
-  for (size_t k = 1; k < c.keyframes.size(); ++k) {
-    const Keyframe &a = c.keyframes[k - 1], &b = c.keyframes[k];
-    if (t < b.time) {
-      const double s = (t - a.time) / (b.time - a.time);
-      Vec3d o{};
-      for (int i = 0; i < 3; ++i) o[i] = a.offset[i] + s * (b.offset[i] - a.offset[i]);
-      return o;
-    }
-  }
-  return c.keyframes.back().offset;
-}
-
-// Signed distance from the collider's surface, positive outside.
-double colliderDistance(const Collider& c, const Vec3d& offset, const std::array<float, 3>& p) {
+// Signed distance from collider c's surface, positive outside, at world point p for its pose.
+double colliderDistance(const Collider& c, const ColliderPose& pose, const ColliderField* field,
+                        const std::array<float, 3>& world) {
+  const Vec3d p = pose.toRest({world[0], world[1], world[2]});
+  if (c.isField()) return field ? field->sample(p) : kInfinity;
   if (c.shape == Shape::Sphere) {
     double d2 = 0;
-    for (int i = 0; i < 3; ++i) d2 += std::pow(p[i] - c.center[i] - offset[i], 2);
+    for (int i = 0; i < 3; ++i) d2 += std::pow(p[i] - c.center[i], 2);
     return std::sqrt(d2) - c.radius;
   }
   double outside2 = 0, inside = -kInfinity;
   for (int i = 0; i < 3; ++i) {
-    const double lo = c.min[i] + offset[i] - p[i], hi = p[i] - c.max[i] - offset[i];
-    const double d = std::max(lo, hi);
+    const double d = std::max(c.min[i] - p[i], p[i] - c.max[i]);
     if (d > 0) outside2 += d * d;
     inside = std::max(inside, d);
   }
@@ -62,14 +50,16 @@ double colliderDistance(const Collider& c, const Vec3d& offset, const std::array
 }
 
 // Distance from p to the nearest wall face (periodic axes have none) and collider surface.
-double wallGap(const Scene& scene, const std::vector<Vec3d>& offsets, const std::array<float, 3>& p) {
+double wallGap(const Scene& scene, const std::vector<ColliderPose>& poses,
+               const std::vector<ColliderField>& fields, const std::array<float, 3>& p) {
   double gap = kInfinity;
   for (int a = 0; a < 3; ++a) {
     if (scene.domain.isPeriodic(a)) continue;
     gap = std::min({gap, p[a] - scene.domain.min[a], scene.domain.max[a] - p[a]});
   }
   for (size_t c = 0; c < scene.colliders.size(); ++c)
-    gap = std::min(gap, colliderDistance(scene.colliders[c], offsets[c], p));
+    gap = std::min(
+        gap, colliderDistance(scene.colliders[c], poses[c], c < fields.size() ? &fields[c] : nullptr, p));
   return gap;
 }
 
@@ -88,7 +78,8 @@ double surfaceHeightOf(const ParticleFrame& f, const Scene& scene) {
 
 }  // namespace
 
-FrameState measureFrameState(const ParticleFrame& f, const Scene& scene) {
+FrameState measureFrameState(const ParticleFrame& f, const Scene& scene,
+                             const std::vector<ColliderField>& fields) {
   FrameState st;
   st.frame = f.frame;
   st.time = f.time;
@@ -97,8 +88,8 @@ FrameState measureFrameState(const ParticleFrame& f, const Scene& scene) {
   st.bulkDensityRatio = std::numeric_limits<double>::quiet_NaN();
   if (f.size() == 0) return st;
   const double g = -scene.gravity[1], floor = scene.domain.min[1], h = scene.kernelRadius();
-  std::vector<Vec3d> offsets;
-  for (const auto& c : scene.colliders) offsets.push_back(colliderOffset(c, f.time));
+  std::vector<ColliderPose> poses;
+  for (const auto& c : scene.colliders) poses.push_back(colliderPose(c, f.time));
   st.surfaceHeight = surfaceHeightOf(f, scene);
   double kinetic = 0, potential = 0, bulk = 0;
   size_t bulkCount = 0;
@@ -109,7 +100,7 @@ FrameState measureFrameState(const ParticleFrame& f, const Scene& scene) {
     kinetic += 0.5 * v2;
     potential += g * (f.position[i][1] - floor);
     st.maxSpeed = std::max(st.maxSpeed, std::sqrt(v2));
-    const double gap = wallGap(scene, offsets, f.position[i]);
+    const double gap = wallGap(scene, poses, fields, f.position[i]);
     st.minWallGap = std::min(st.minWallGap, gap);
     if (haveDensity && gap >= h && f.position[i][1] < st.surfaceHeight - h) {
       bulk += f.density[i];
@@ -123,9 +114,14 @@ FrameState measureFrameState(const ParticleFrame& f, const Scene& scene) {
 }
 
 std::vector<FrameState> measureShot(const std::string& shotDir, const Scene& scene) {
+  std::vector<ColliderField> fields(scene.colliders.size());
+  for (size_t c = 0; c < scene.colliders.size(); ++c)
+    if (scene.colliders[c].isField())
+      fields[c] =
+          buildColliderField(scene.colliders[c], c, colliderFieldSpec(scene), colliderFieldPath(shotDir, c));
   std::vector<FrameState> states;
   for (int frame : listFrames((fs::path(shotDir) / "cache").string(), "particles", "vdb"))
-    states.push_back(measureFrameState(readParticleCache(particleCachePath(shotDir, frame)), scene));
+    states.push_back(measureFrameState(readParticleCache(particleCachePath(shotDir, frame)), scene, fields));
   return states;
 }
 
@@ -156,6 +152,27 @@ double initialFluidHeight(const Scene& scene) {
   return top - scene.domain.min[1];
 }
 
+namespace {
+// Largest distance from the pivot to the collider's surface: the lever arm of its rotation.
+double colliderReach(const Collider& c) {
+  const Vec3d pivot = colliderPivot(c);
+  if (c.shape == Shape::Sphere) return c.radius;
+  double r2 = 0;
+  auto reach = [&](const Vec3d& p) {
+    double d2 = 0;
+    for (int i = 0; i < 3; ++i) d2 += (p[i] - pivot[i]) * (p[i] - pivot[i]);
+    r2 = std::max(r2, d2);
+  };
+  if (c.shape == Shape::Box) {
+    for (int k = 0; k < 8; ++k)
+      reach({k & 1 ? c.max[0] : c.min[0], k & 2 ? c.max[1] : c.min[1], k & 4 ? c.max[2] : c.min[2]});
+  } else {
+    for (const auto& p : colliderRestMesh(c).positions) reach({p[0], p[1], p[2]});
+  }
+  return std::sqrt(r2);
+}
+}  // namespace
+
 double speedBound(const Scene& scene) {
   const double g = std::fabs(scene.gravity[1]);
   double initial = 0, collider = 0;
@@ -163,9 +180,13 @@ double speedBound(const Scene& scene) {
     initial = std::max(initial, std::sqrt(double(v[0]) * v[0] + double(v[1]) * v[1] + double(v[2]) * v[2]));
   for (const auto& c : scene.colliders)
     for (size_t k = 1; k < c.keyframes.size(); ++k) {
-      double d2 = 0;
-      for (int i = 0; i < 3; ++i) d2 += std::pow(c.keyframes[k].offset[i] - c.keyframes[k - 1].offset[i], 2);
-      collider = std::max(collider, std::sqrt(d2) / (c.keyframes[k].time - c.keyframes[k - 1].time));
+      const ColliderPose pose = colliderPose(c, 0.5 * (c.keyframes[k - 1].time + c.keyframes[k].time));
+      const double w = std::sqrt(pose.angularVelocity[0] * pose.angularVelocity[0] +
+                                 pose.angularVelocity[1] * pose.angularVelocity[1] +
+                                 pose.angularVelocity[2] * pose.angularVelocity[2]);
+      const double v = std::sqrt(pose.velocity[0] * pose.velocity[0] + pose.velocity[1] * pose.velocity[1] +
+                                 pose.velocity[2] * pose.velocity[2]);
+      collider = std::max(collider, v + (w > 0 ? w * colliderReach(c) : 0.0));
     }
   return 2 * std::sqrt(g * initialFluidHeight(scene)) + initial + collider;
 }

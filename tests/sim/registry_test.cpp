@@ -17,8 +17,9 @@ TEST(SolverRegistry, EveryRegisteredSolverIsBuilt) {
                                           "max": [0.3,0.3,0.3]}]}})");
     scene.solver.method = entry.id;
     sim::DispatchGate gate(uint32_t(countInitialParticles(scene)));
-    const uint32_t boundaryEntry = gate.add(1, 64);
-    const auto solver = sim::makePressureSolver(scene, gate, sim::simShaderDefines(scene), boundaryEntry);
+    const ShaderDefines defines = sim::simShaderDefines(scene);
+    const sim::BoundaryAkinci2012 boundary(scene, {}, gate, sim::GridSpec::forScene(scene), defines);
+    const auto solver = sim::makePressureSolver(scene, gate, defines, boundary);
     ASSERT_NE(solver, nullptr);
     EXPECT_EQ(entry.name, solver->name());
   }

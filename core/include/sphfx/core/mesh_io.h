@@ -28,6 +28,9 @@ void writePly(const std::string& path, const TriangleMesh& mesh);
 /// @throws IoError if unreadable; InputError if malformed, naming the file and what was expected.
 TriangleMesh readPly(const std::string& path);
 
+/// Sets one area-weighted unit normal per vertex (zero for vertices of degenerate triangles only).
+void computeVertexNormals(TriangleMesh& mesh);
+
 /// SHOT/mesh/mesh.####.ply
 std::string meshPath(const std::string& shotDir, int frame);
 /// SHOT/surface/surface.####.vdb

@@ -22,7 +22,8 @@ enum class EquationOfState { Linear, Tait };
 enum class SphKernel { WendlandC2, Muller2003 };
 enum class ViscosityModel { None, Laplacian, Artificial };
 enum class TimeStepMode { Fixed, Cfl };
-enum class Shape { Box, Sphere };
+/// Box and sphere: fluid blocks and colliders; mesh and vdb: colliders only.
+enum class Shape { Box, Sphere, Mesh, Vdb };
 /// Optional per-particle attributes of the cache. Position `P` and velocity `v` are always stored.
 enum class CacheAttribute { Density, Pressure, Id };
 enum class RenderSource { Surface, Particles };
@@ -108,13 +109,17 @@ struct TimeSettings {
   double dtMax = 0;
 };
 
-/// Translation of a collider at a time; linear in between, held before the first and after the last key.
+/// Placement of a collider at a time: a translation, linear between keys, and a rotation about the
+/// collider's pivot (colliderPivot()), interpolated as quaternions (slerp); held before the first and
+/// after the last key (collider_motion.h).
 struct Keyframe {
   double time = 0;
   Vec3d offset{};
+  Vec3d rotation{};  ///< degrees about x, then y, then z (fixed axes)
 };
 
-/// A solid object the fluid flows around, moved by keyframed translation.
+/// A solid object the fluid flows around, moved by keyframes. Mesh and vdb colliders are placed at rest
+/// by scale, then rotation, then translation.
 struct Collider {
   std::string name;
   Shape shape = Shape::Box;
@@ -122,7 +127,15 @@ struct Collider {
   Vec3d max{};
   Vec3d center{};
   double radius = 0;
+  std::string file;     ///< mesh (OBJ, PLY, STL) or vdb file; absolute once loaded (loadScene)
+  std::string grid;     ///< vdb: name of the level-set grid; empty: the first float grid
+  double scale = 1;     ///< mesh/vdb: uniform scale (keeps distances distances)
+  Vec3d rotation{};     ///< mesh/vdb: degrees about x, then y, then z
+  Vec3d translation{};  ///< mesh/vdb
+  double thickness = 0;  ///< mesh: shell thickness for a mesh that is not closed; 0: must be closed
   std::vector<Keyframe> keyframes;
+  /// True for shapes described by a signed distance field (mesh, vdb).
+  bool isField() const { return shape == Shape::Mesh || shape == Shape::Vdb; }
 };
 
 struct Health {

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "sphfx/core/collider_geometry.h"
 #include "sphfx/core/particle_cache.h"
 #include "sphfx/core/scene.h"
 
@@ -31,11 +32,15 @@ struct FrameState {
   double minWallGap = 0;
 };
 
+/// `fields` holds the mesh and vdb colliders' distance fields by collider index (measureShot builds
+/// them); a field collider without one is left out of the wall gap.
 /// @throws nothing; an empty frame gives zeros (gap: infinity).
-FrameState measureFrameState(const ParticleFrame& frame, const Scene& scene);
+FrameState measureFrameState(const ParticleFrame& frame, const Scene& scene,
+                             const std::vector<ColliderField>& fields = {});
 
-/// Every cached frame of a shot, in frame order.
-/// @throws IoError, InputError as readParticleCache.
+/// Every cached frame of a shot, in frame order. Mesh and vdb colliders' fields are the ones the
+/// simulation cached in the shot (built again if absent).
+/// @throws IoError, InputError as readParticleCache and buildColliderField.
 std::vector<FrameState> measureShot(const std::string& shotDir, const Scene& scene);
 
 /// The criteria a stability case may ask for (StabilityCase::criteria names them).
