@@ -33,6 +33,12 @@
 #define SPHFX_SSBO_SIM_DFSPH_BOUNDARY 22  /* vec4 per sorted particle: sum psi grad W, sum psi v_b . grad W */
 #define SPHFX_SSBO_SIM_DFSPH_COUNT 23     /* uint per sorted particle: fluid neighbours in the list */
 
+/* Varying particle counts (scenes with emitters, kill boxes or open faces; sph_dynamic.glsl) */
+#define SPHFX_SSBO_SIM_DYNAMIC 24         /* SimDynamic: live count, next id, layers emitted per emitter */
+#define SPHFX_SSBO_SIM_EMITTERS 25        /* per emitter: timing, direction and speed, point range */
+#define SPHFX_SSBO_SIM_EMITTER_POINTS 26  /* vec4 per emitter lattice point: xyz, w = emitter index bits */
+#define SPHFX_SSBO_SIM_KILL_BOXES 27      /* vec4 min, vec4 max per kill box */
+
 /* Texture units (buffer textures, read-only views of the buffers above, sph_textures.glsl): neighbour
  * loops fetch through these. */
 #define SPHFX_TEX_SIM_POS 0 /* RGBA32F view of SPHFX_SSBO_SIM_POS */

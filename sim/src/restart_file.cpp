@@ -22,7 +22,11 @@ std::string restartPath(const std::string& shotDir, int frame) {
 uint64_t sceneStateHash(const Scene& scene) {
   schema::Json j = sceneToJson(scene);
   j["time"].erase("end_frame");
-  for (const char* k : {"cache", "surface", "render", "name"}) j.erase(k);
+  for (const char* k : {"cache", "surface", "render", "name", "limits"}) j.erase(k);
+  // Keys of features a scene does not use leave the hash as it was before they existed.
+  for (const char* k : {"emitters", "kill"})
+    if (j[k].empty()) j.erase(k);
+  if (j["domain"]["open"].empty()) j["domain"].erase("open");
   const std::string text = j.dump();
   uint64_t h = 1469598103934665603ull;  // FNV-1a
   for (unsigned char c : text) h = (h ^ c) * 1099511628211ull;
