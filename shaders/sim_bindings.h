@@ -1,4 +1,4 @@
-/* Binding points of the simulation stage (shader storage 0-24, uniform block SPHFX_UBO_SIM_PARAMS).
+/* Binding points of the simulation stage (shader storage 0-28, uniform block SPHFX_UBO_SIM_PARAMS).
  * Preprocessor-only; included by bindings.h. C++ mirrors: sim/include/sphfx/sim/gpu_types.h. */
 #ifndef SPHFX_SIM_BINDINGS_H
 #define SPHFX_SIM_BINDINGS_H
@@ -22,7 +22,7 @@
 #define SPHFX_SSBO_SIM_DISPATCH 15 /* indirect dispatch arguments, then their live values */
 #define SPHFX_SSBO_SIM_NEIGHBORS 16 /* WCSPH: neighbours found by sim_density, used by sim_force */
 #define SPHFX_SSBO_SIM_BOUNDARY_PRESSURE 17 /* WCSPH: float p_b / rho_b^2 per sorted boundary sample */
-#define SPHFX_SSBO_SIM_COLLIDER_FIELD 24 /* float: the mesh/vdb colliders' signed distances, one after another */
+#define SPHFX_SSBO_SIM_COLLIDER_FIELD 28 /* float: the mesh/vdb colliders' signed distances, one after another */
 
 /* DFSPH passes (sim_dfsph_*.comp; 16 and 17 are free there: no DFSPH program uses the WCSPH buffers) */
 #define SPHFX_SSBO_SIM_DFSPH_PARTICLE 16  /* vec4 per sorted particle: factor, neighbours, stiffness totals */
@@ -33,6 +33,12 @@
 #define SPHFX_SSBO_SIM_DFSPH_NEIGHBORS 21 /* vec4 per (slot, sorted particle): m grad W_ij, j bits */
 #define SPHFX_SSBO_SIM_DFSPH_BOUNDARY 22  /* vec4 per sorted particle: sum psi grad W, sum psi v_b . grad W */
 #define SPHFX_SSBO_SIM_DFSPH_COUNT 23     /* uint per sorted particle: fluid neighbours in the list */
+
+/* Varying particle counts (scenes with emitters, kill boxes or open faces; sph_dynamic.glsl) */
+#define SPHFX_SSBO_SIM_DYNAMIC 24         /* SimDynamic: live count, next id, layers emitted per emitter */
+#define SPHFX_SSBO_SIM_EMITTERS 25        /* per emitter: timing, direction and speed, point range */
+#define SPHFX_SSBO_SIM_EMITTER_POINTS 26  /* vec4 per emitter lattice point: xyz, w = emitter index bits */
+#define SPHFX_SSBO_SIM_KILL_BOXES 27      /* vec4 min, vec4 max per kill box */
 
 /* Texture units (buffer textures, read-only views of the buffers above, sph_textures.glsl): neighbour
  * loops fetch through these. */

@@ -6,7 +6,13 @@ layout(local_size_x = 64) in;
 layout(std430, binding = SPHFX_SSBO_SIM_GRID_SRC_POS) readonly buffer GridSrcPos { vec4 srcPos[]; };
 layout(std430, binding = SPHFX_SSBO_SIM_CELL_START) buffer GridCellCount { uint cellCount[]; };
 layout(std430, binding = SPHFX_SSBO_SIM_GRID_CELL_RANK) writeonly buffer GridCellRank { uvec2 cellRank[]; };
+#if defined(SIM_DYNAMIC_COUNT)
+// The fluid grid of a scene whose count changes: the items are the live particles (sph_dynamic.glsl).
+#include "sph_dynamic.glsl"
+#define uItemCount dynLive
+#else
 uniform uint uItemCount;
+#endif
 uniform vec3 uGridMin;
 uniform float uInvCellSize;
 uniform ivec3 uDims;

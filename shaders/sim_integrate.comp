@@ -15,6 +15,14 @@ layout(std430, binding = SPHFX_SSBO_SIM_VEL) readonly buffer SimVel { vec4 vel[]
 layout(std430, binding = SPHFX_SSBO_SIM_ACCEL) readonly buffer SimAccel { vec4 accel[]; };
 layout(std430, binding = SPHFX_SSBO_SIM_UNSORTED_POS) writeonly buffer SimOutPos { vec4 outPos[]; };
 layout(std430, binding = SPHFX_SSBO_SIM_UNSORTED_VEL) writeonly buffer SimOutVel { vec4 outVel[]; };
+#if defined(SIM_KILL_BOXES)
+// SIM_KILL_BOXES boxes, min then max: a particle ending the step inside one is removed.
+layout(std430, binding = SPHFX_SSBO_SIM_KILL_BOXES) readonly buffer SimKillBoxes { vec4 killBoxes[]; };
+#endif
+#if defined(SIM_OPEN_FACES)
+// Bit 2 a + side is set for the open face of axis a on side 0 (min) or 1 (max).
+bool openFace(int axis, int side) { return (SIM_OPEN_FACES & (1 << (2 * axis + side))) != 0; }
+#endif
 
 void main() {
   uint i = sphfxGlobalIndex();
@@ -30,8 +38,14 @@ void main() {
 #if defined(SIM_PERIODIC_Z)
     if (k == 2) continue;
 #endif
+#if defined(SIM_OPEN_FACES)
+    // An open face has no clamp: the particle leaves, and is removed below.
+    if (x[k] < lo[k] && !openFace(k, 0)) { x[k] = lo[k]; v[k] = max(v[k], 0.0); }
+    if (x[k] > hi[k] && !openFace(k, 1)) { x[k] = hi[k]; v[k] = min(v[k], 0.0); }
+#else
     if (x[k] < lo[k]) { x[k] = lo[k]; v[k] = max(v[k], 0.0); }
     if (x[k] > hi[k]) { x[k] = hi[k]; v[k] = min(v[k], 0.0); }
+#endif
   }
 #if defined(SIM_PERIODIC_X) || defined(SIM_PERIODIC_Z)
   x = sphWrapPosition(x);  // into [min, max): the grid, the health check and the caches see one image
@@ -39,7 +53,28 @@ void main() {
 #if defined(HAS_COLLIDERS)
   for (uint c = 0u; c < simCounts.z; ++c) sphProjectOutOfCollider(c, float(stateTime), simViscosity.z, x, v);
   // A collider pushing a particle into a wall: the wall wins (the domain guarantee is absolute).
+#if defined(SIM_OPEN_FACES)
+  for (int k = 0; k < 3; ++k) {
+    if (!openFace(k, 0)) x[k] = max(x[k], lo[k]);
+    if (!openFace(k, 1)) x[k] = min(x[k], hi[k]);
+  }
+#else
   x = clamp(x, lo, hi);
+#endif
+#endif
+#if defined(SIM_OPEN_FACES) || defined(SIM_KILL_BOXES)
+  // Removal: the particle keeps its slot (and id) until the next grid build sorts it out of the live
+  // range (SIM_REMOVED_POSITION, sph_dynamic.glsl).
+  bool removed = false;
+#if defined(SIM_OPEN_FACES)
+  for (int k = 0; k < 3; ++k)
+    removed = removed || (openFace(k, 0) && x[k] < simDomainMin[k]) || (openFace(k, 1) && x[k] > simDomainMax[k]);
+#endif
+#if defined(SIM_KILL_BOXES)
+  for (int b = 0; b < SIM_KILL_BOXES; ++b)
+    removed = removed || (all(greaterThanEqual(x, killBoxes[2 * b].xyz)) && all(lessThan(x, killBoxes[2 * b + 1].xyz)));
+#endif
+  if (removed) x = SIM_REMOVED_POSITION;
 #endif
   outPos[i] = vec4(x, pos[i].w);
   outVel[i] = vec4(v, vel[i].w);  // w: solver data carried between steps (DFSPH warm start)

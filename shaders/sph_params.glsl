@@ -38,6 +38,15 @@ layout(std430, binding = SPHFX_SSBO_SIM_STATE) buffer SimStateBlock {
   uvec4 stateHealthFirst;  // smallest offending particle id per cause
 };
 
+#if defined(SIM_DYNAMIC_COUNT)
+uint simParamsCapacity() { return simCounts.x; }  // the particles the buffers hold (before the macro)
+#include "sph_dynamic.glsl"
+// Every per-particle pass loops over the live particles: simCounts.x below is the live count, while the
+// uniform's own x is the capacity the buffers were sized for. (A macro does not expand inside its own
+// expansion, so simCounts.yzw is the uniform's.)
+#define simCounts uvec4(dynLive, simCounts.yzw)
+#endif
+
 #define SIM_FAIL_NONFINITE 1u
 #define SIM_FAIL_SPEED 2u
 #define SIM_FAIL_DENSITY 4u

@@ -77,6 +77,15 @@ std::shared_ptr<const Object<Domain>> domainSchema() {
             "particles leaving through max re-enter at min. WCSPH only, no colliders; each periodic "
             "extent must be at least 3 kernel radii, and a fluid block spanning it must hold a whole "
             "number of lattice spacings (no gap or overlap at the seam).")
+        .choiceList("open", &Domain::open, std::vector<DomainFace>{},
+                    {{"x-", DomainFace::XMin},
+                     {"x+", DomainFace::XMax},
+                     {"y-", DomainFace::YMin},
+                     {"y+", DomainFace::YMax},
+                     {"z-", DomainFace::ZMin},
+                     {"z+", DomainFace::ZMax}},
+                    "Open faces (outflow): no wall and no clamp there; a particle that leaves the domain "
+                    "through an open face is removed. WCSPH only; not on a periodic axis.")
         .check([](const Domain& d, const Json&, const std::string& path) {
           for (int a = 0; a < 3; ++a)
             if (!(d.min[a] < d.max[a]))
@@ -127,8 +136,9 @@ std::shared_ptr<const Object<Fluid>> fluidSchema() {
                 "Monaghan alpha for the artificial model: nu = 2 alpha h c / (rho_i + rho_j).")
         .onlyWhen([](const Fluid& f) { return f.viscosityModel == ViscosityModel::Artificial; },
                   "artificial model")
-        .list("blocks", &Fluid::blocks, fluidBlockSchema(), 1, kUnbounded,
-              "Blocks of fluid at the first frame (boxes or spheres, must not overlap).");
+        .list("blocks", &Fluid::blocks, fluidBlockSchema(), 0, kUnbounded,
+              "Blocks of fluid at the first frame (boxes or spheres, must not overlap); may be empty when "
+              "the scene has emitters.");
   });
 }
 
@@ -367,6 +377,66 @@ std::shared_ptr<const Object<Collider>> colliderSchema() {
   });
 }
 
+std::shared_ptr<const Object<Emitter>> emitterSchema() {
+  return makeSchema<Emitter>([](Object<Emitter>& o) {
+    o.text("name", &Emitter::name, "", "Name shown in errors and logs.")
+        .choice("shape", &Emitter::shape, EmitterShape::Disc, {{"disc", EmitterShape::Disc}},
+                "Shape of the emitter: a disc (a round nozzle) emitting along its normal.")
+        .vec3("center", &Emitter::center, {0, 0, 0}, "m", Range::any(), "Centre of the disc.")
+        .number("radius", &Emitter::radius, 0, "m", Range::nonNegative(),
+                "Radius of the disc; its layer holds the lattice points (spacing fluid.spacing) within it.")
+        .vec3("direction", &Emitter::direction, {0, -1, 0}, "", Range::any(),
+              "Direction of the flow, the disc's normal (any length; normalised where used).")
+        .number("speed", &Emitter::speed, 1, "m/s", Range{0, 1e4, true, false},
+                "Speed of the emitted fluid along direction: the particles enter with this velocity, and a "
+                "new lattice layer enters each time the fluid has advanced one spacing, so the mass flow "
+                "is rest_density x speed x the disc's lattice area.")
+        .number("start", &Emitter::start, 0, "s", Range::any(),
+                "Time emission starts (frame start_frame is 0 s).")
+        .number("end", &Emitter::end, 0, "s", Range::any(),
+                "Time emission ends (required): the layers due in [start, end) are emitted. The GPU buffers "
+                "are sized for every particle the emitter can add over this time.")
+        .check([](const Emitter& e, const Json& raw, const std::string& path) {
+          if (!raw.contains("end")) throw SchemaError(path, "an emitter needs \"end\"");
+          if (!raw.contains("radius")) throw SchemaError(path, "a disc needs \"radius\"");
+          if (!(e.radius > 0)) throw SchemaError(schema::childPath(path, "radius"), "expected a radius > 0");
+          if (!(e.end > e.start))
+            throw SchemaError(schema::childPath(path, "end"),
+                              fmt::format("expected end > start ({} s), got {} s", e.start, e.end));
+          const double n2 = e.direction[0] * e.direction[0] + e.direction[1] * e.direction[1] +
+                            e.direction[2] * e.direction[2];
+          if (!(n2 > 1e-12))
+            throw SchemaError(schema::childPath(path, "direction"), "expected a non-zero direction");
+        });
+  });
+}
+
+std::shared_ptr<const Object<KillBox>> killBoxSchema() {
+  return makeSchema<KillBox>([](Object<KillBox>& o) {
+    o.vec3("min", &KillBox::min, {0, 0, 0}, "m", Range::any(), "Lower corner.")
+        .vec3("max", &KillBox::max, {0, 0, 0}, "m", Range::any(), "Upper corner.")
+        .check([](const KillBox& k, const Json& raw, const std::string& path) {
+          for (const char* key : {"min", "max"})
+            if (!raw.contains(key)) throw SchemaError(path, std::string("a kill box needs \"") + key + "\"");
+          for (int a = 0; a < 3; ++a)
+            if (!(k.min[a] < k.max[a]))
+              throw SchemaError(
+                  schema::childPath(path, "max"),
+                  "expected max > min on every axis, got min " + vecText(k.min) + ", max " + vecText(k.max));
+        });
+  });
+}
+
+std::shared_ptr<const Object<Limits>> limitsSchema() {
+  return makeSchema<Limits>([](Object<Limits>& o) {
+    o.integer("max_particles", &Limits::maxParticles, int(kMaxParticles), "",
+              Range::closed(1, double(kMaxParticles)),
+              "Most particles the scene may hold at once: the initial ones plus everything its emitters "
+              "can add. A scene above it is refused before it starts. Each particle takes about 170 bytes "
+              "of GPU memory under WCSPH, so 10 million need about 1.7 GB.");
+  });
+}
+
 std::shared_ptr<const Object<Health>> healthSchema() {
   return makeSchema<Health>([](Object<Health>& o) {
     o.number("max_density_ratio", &Health::maxDensityRatio, 3.0, "", Range{1, 1e6, true, false},
@@ -482,6 +552,10 @@ void blockBounds(const FluidBlock& b, Vec3d& lo, Vec3d& hi) {
 /// Geometry that only the whole scene can check: blocks inside the domain, not overlapping, each giving
 /// at least one particle, and a particle count the tool can hold.
 void checkSceneGeometry(const Scene& s, const Json&, const std::string&) {
+  if (s.fluid.blocks.empty() && s.emitters.empty())
+    throw SchemaError("/fluid/blocks",
+                      "expected [1, inf] entries, got 0 (only a scene with emitters may "
+                      "start without fluid)");
   std::vector<std::pair<Vec3d, Vec3d>> bounds;
   for (size_t i = 0; i < s.fluid.blocks.size(); ++i) {
     const std::string path = "/fluid/blocks/" + std::to_string(i);
@@ -546,6 +620,56 @@ void checkPeriodic(const Scene& s, const Json&, const std::string&) {
   }
 }
 
+/// Emitters, kill boxes and open faces: the solver, the geometry and the particle limit.
+void checkEmittersAndRemoval(const Scene& s, const Json&, const std::string&) {
+  if (!s.changesParticleCount()) return;
+  const std::string what = !s.emitters.empty() ? "/emitters" : !s.kill.empty() ? "/kill" : "/domain/open";
+  if (s.solver.method != Solver::WCSPH)
+    throw SchemaError(what,
+                      "emitters, kill boxes and open faces need solver.method \"wcsph\" (the dfsph "
+                      "solver keeps a constant particle count)");
+  for (const DomainFace f : s.domain.open) {
+    const int axis = int(f) / 2;
+    if (s.domain.isPeriodic(axis))
+      throw SchemaError("/domain/open",
+                        fmt::format("the {} axis is periodic: it has no face to open", "xyz"[axis]));
+  }
+  const size_t initial = countInitialParticles(s), limit = size_t(s.limits.maxParticles);
+  size_t total = initial;
+  if (initial > limit)
+    throw SchemaError(
+        "/limits/max_particles",
+        fmt::format("the fluid blocks hold {} particles, more than limits.max_particles {}", initial, limit));
+  for (size_t i = 0; i < s.emitters.size(); ++i) {
+    const Emitter& e = s.emitters[i];
+    const std::string path = "/emitters/" + std::to_string(i);
+    const std::string label =
+        e.name.empty() ? "emitter " + std::to_string(i) : fmt::format("emitter {} (\"{}\")", i, e.name);
+    // The disc's extent: radius r times sqrt(1 - d_a^2) along each axis a.
+    const double len = std::sqrt(e.direction[0] * e.direction[0] + e.direction[1] * e.direction[1] +
+                                 e.direction[2] * e.direction[2]);
+    Vec3d lo, hi;
+    for (int a = 0; a < 3; ++a) {
+      const double d = e.direction[a] / len, reach = e.radius * std::sqrt(std::max(0.0, 1 - d * d));
+      lo[a] = e.center[a] - reach;
+      hi[a] = e.center[a] + reach;
+    }
+    if (!insideDomain(s.domain, lo, hi))
+      throw SchemaError(
+          path, fmt::format("{}: the disc spans {} - {}, not inside the domain {} - {}", label, vecText(lo),
+                            vecText(hi), vecText(s.domain.min), vecText(s.domain.max)));
+    const size_t layers = emitterLayers(s, e), points = emitterLayerPoints(s, e).size();
+    if (layers > limit || (points > 0 && layers > limit / points) || total + layers * points > limit)
+      throw SchemaError(path,
+                        fmt::format("{} adds {} layers of {} particles over [{}, {}) s, which brings the "
+                                    "scene's largest particle count to {}, more than "
+                                    "limits.max_particles {}",
+                                    label, layers, points, e.start, e.end,
+                                    double(total) + double(layers) * double(points), limit));
+    total += layers * points;
+  }
+}
+
 std::shared_ptr<const Object<Scene>> buildSceneSchema() {
   return makeSchema<Scene>([](Object<Scene>& o) {
     o.integer("version", &Scene::version, 1, "", Range::closed(1, 1), "Scene format version.")
@@ -557,6 +681,11 @@ std::shared_ptr<const Object<Scene>> buildSceneSchema() {
         .child("solver", &Scene::solver, solverSchema(), "Pressure solver and its parameters.")
         .child("time", &Scene::time, timeSchema(), "Frames and time step control.")
         .list("colliders", &Scene::colliders, colliderSchema(), 0, kUnbounded, "Solid objects in the fluid.")
+        .list("emitters", &Scene::emitters, emitterSchema(), 0, kUnbounded,
+              "Nozzles that add fluid while they are active (WCSPH only).")
+        .list("kill", &Scene::kill, killBoxSchema(), 0, kUnbounded,
+              "Boxes that remove the particles entering them (WCSPH only).")
+        .child("limits", &Scene::limits, limitsSchema(), "Resource limits checked before a run starts.")
         .child("health", &Scene::health, healthSchema(), "Checks that stop a run that blows up.")
         .child("cache", &Scene::cache, cacheSchema(), "What the particle cache stores.")
         .child("surface", &Scene::surface, surfaceSchema(), "Surfacing defaults.")
@@ -564,6 +693,7 @@ std::shared_ptr<const Object<Scene>> buildSceneSchema() {
         .check([](const Scene& s, const Json& raw, const std::string& path) {
           checkSceneGeometry(s, raw, path);
           checkPeriodic(s, raw, path);
+          checkEmittersAndRemoval(s, raw, path);
         });
   });
 }
@@ -636,6 +766,67 @@ size_t countInitialParticles(const Scene& scene) {
     }
     if (n > kMaxParticles) return n;
   }
+  return n;
+}
+
+bool Domain::isOpen(int axis, int side) const {
+  const auto face = DomainFace(axis * 2 + side);
+  return std::find(open.begin(), open.end(), face) != open.end();
+}
+
+std::array<Vec3d, 2> emitterBasis(const Vec3d& d) {
+  // u: d x (the coordinate axis least aligned with d), normalised; w = d x u.
+  int least = 0;
+  for (int a = 1; a < 3; ++a)
+    if (std::fabs(d[a]) < std::fabs(d[least])) least = a;
+  Vec3d e{0, 0, 0};
+  e[size_t(least)] = 1;
+  auto cross = [](const Vec3d& a, const Vec3d& b) {
+    return Vec3d{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+  };
+  Vec3d u = cross(d, e);
+  const double n = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+  for (double& c : u) c /= n;
+  return {u, cross(d, u)};
+}
+
+namespace {
+Vec3d unit(const Vec3d& v) {
+  const double n = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  return {v[0] / n, v[1] / n, v[2] / n};
+}
+}  // namespace
+
+std::vector<Vec3d> emitterLayerPoints(const Scene& scene, const Emitter& e) {
+  const double s = scene.fluid.spacing;
+  const auto [u, w] = emitterBasis(unit(e.direction));
+  const long n = long(std::floor(e.radius / s + 1e-9));
+  const double r2 = (e.radius / s) * (e.radius / s) * (1 + 1e-12);
+  std::vector<Vec3d> points;
+  for (long b = -n; b <= n; ++b)
+    for (long a = -n; a <= n; ++a) {
+      if (double(a * a + b * b) > r2) continue;
+      Vec3d p;
+      for (int k = 0; k < 3; ++k) p[k] = e.center[k] + s * (double(a) * u[k] + double(b) * w[k]);
+      points.push_back(p);
+    }
+  return points;
+}
+
+size_t emitterLayers(const Scene& scene, const Emitter& e) {
+  // Layer k leaves at start + k tau (tau = spacing / speed) and is emitted while that time is before end:
+  // the count of k >= 0 with k < (end - start) / tau. The GPU emits no more (sim_emit.comp clamps to it).
+  const double x = (e.end - e.start) * e.speed / scene.fluid.spacing;
+  return x > 0 ? size_t(std::ceil(x)) : 0;
+}
+
+size_t countEmittedParticles(const Scene& scene, const Emitter& e) {
+  return emitterLayers(scene, e) * emitterLayerPoints(scene, e).size();
+}
+
+size_t maxParticleCount(const Scene& scene) {
+  size_t n = countInitialParticles(scene);
+  for (const Emitter& e : scene.emitters) n += countEmittedParticles(scene, e);
   return n;
 }
 
@@ -834,6 +1025,18 @@ Scene loadScene(const std::string& path, const std::vector<std::string>& overrid
 
 Json sceneToJson(const Scene& scene) {
   return sceneSchema().write(scene);
+}
+
+Json sceneIdentityJson(const Scene& scene) {
+  Json j = sceneToJson(scene);
+  for (const char* k : {"emitters", "kill"})
+    if (j.contains(k) && j[k].empty()) j.erase(k);
+  if (j["domain"].contains("open") && j["domain"]["open"].empty()) j["domain"].erase("open");
+  if (scene.limits.maxParticles == int(kMaxParticles)) j.erase("limits");
+  for (Json& c : j["colliders"])
+    for (Json& k : c["keyframes"])
+      if (k.contains("rotation") && k["rotation"] == Json::array({0, 0, 0})) k.erase("rotation");
+  return j;
 }
 
 std::string sceneReferenceMarkdown() {

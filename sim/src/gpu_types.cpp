@@ -59,10 +59,19 @@ int gridSplitX(const Scene& scene) {
   if (scene.domain.isPeriodic(0)) return 1;  // sphRowWrap() walks whole cells of h across the seam
   const auto d = gridDims(scene);
   const double cells = double(d[0]) * d[1] * d[2];
-  const double budget = kGridRowStartsPerParticle * double(std::max<size_t>(countInitialParticles(scene), 1));
+  const double budget = kGridRowStartsPerParticle * double(std::max<size_t>(maxParticleCount(scene), 1));
   for (int split : {4, 2})
     if (split * cells <= budget) return split;
   return 1;
+}
+
+Scene wallSamplingScene(const Scene& scene, double wallDepth) {
+  Scene s = scene;
+  for (int a = 0; a < 3; ++a) {
+    if (scene.domain.isOpen(a, 0)) s.domain.min[a] -= wallDepth;
+    if (scene.domain.isOpen(a, 1)) s.domain.max[a] += wallDepth;
+  }
+  return s;
 }
 
 double clampMargin(const Scene& scene) {
@@ -143,6 +152,14 @@ ShaderDefines simShaderDefines(const Scene& scene) {
   if (scene.domain.isPeriodic(0)) d.set("SIM_PERIODIC_X");
   if (scene.domain.isPeriodic(2)) d.set("SIM_PERIODIC_Z");
   if (const int split = gridSplitX(scene); split > 1) d.set("SIM_GRID_SPLIT_X", split);  // sphRow()
+  if (scene.changesParticleCount()) {
+    d.set("SIM_DYNAMIC_COUNT");  // the live count on the GPU (sph_dynamic.glsl)
+    if (!scene.emitters.empty()) d.set("HAS_EMITTERS");
+    int open = 0;
+    for (const DomainFace f : scene.domain.open) open |= 1 << int(f);
+    if (open) d.set("SIM_OPEN_FACES", open);
+    if (!scene.kill.empty()) d.set("SIM_KILL_BOXES", int(scene.kill.size()));
+  }
   return d;
 }
 

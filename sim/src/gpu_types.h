@@ -64,6 +64,13 @@ struct ColliderGpu {
   uint32_t info[4];  ///< shape (0 box, 1 sphere, 2 field), first key, key count, field's first value
 };
 
+/// One element of the std430 array SimEmitters::emitters[] (shaders/sph_emitters.glsl).
+struct EmitterGpu {
+  double time[2];     ///< start (s), layer period spacing / speed (s)
+  float dirSpeed[4];  ///< xyz: unit direction, w: speed
+  uint32_t info[4];   ///< points per layer, first point, layers in all, unused
+};
+
 /// Normalisation factors of the kernels for support radius h (Mueller et al. 2003).
 struct KernelFactors {
   double poly6;               ///< W(r) = poly6 (h^2 - r^2)^3
@@ -96,8 +103,8 @@ double calibratedParticleMass(const Scene& scene);
 /// cells, the last one wider, see periodicCells()).
 std::array<int, 3> gridDims(const Scene& scene);
 
-/// Most row starts (cells x gridSplitX()) of the neighbour grid per initial particle: the per-cell
-/// sort writes them all every build, so a sparse domain keeps whole cells.
+/// Most row starts (cells x gridSplitX()) of the neighbour grid per particle (maxParticleCount()): the
+/// per-cell sort writes them all every build, so a sparse domain keeps whole cells.
 constexpr double kGridRowStartsPerParticle = 16.0;
 
 /// Slabs per grid cell in x that the neighbour walks resolve: 4, 2 or 1, the largest with at most
@@ -105,6 +112,11 @@ constexpr double kGridRowStartsPerParticle = 16.0;
 /// h / 4 a walk visits only the x-interval that the kernel sphere reaches in each row of cells, about
 /// 15 h^3 of candidates instead of 27 h^3 (sph_kernels.glsl, sphRow(); NeighborGrid::rowStart()).
 int gridSplitX(const Scene& scene);
+
+/// The scene the wall samples are taken from (sampleBoundaries()): the scene itself, its domain widened
+/// past each open face by `wallDepth` (the sample shell's depth), so that the walls adjoining an open
+/// face continue past it and no wall sample lies within a kernel radius of it.
+Scene wallSamplingScene(const Scene& scene, double wallDepth);
 
 /// Distance particles are kept inside the domain walls and outside colliders by the last-resort clamp.
 double clampMargin(const Scene& scene);
@@ -121,7 +133,8 @@ SimParams makeSimParams(const Scene& scene, uint32_t particles, uint32_t boundar
 constexpr int kSimWorkGroup = 64;
 
 /// Shader variant switches of a scene: EOS, viscosity model, colliders, periodic axes (SIM_PERIODIC_X,
-/// SIM_PERIODIC_Z). Leaves out what the scene does not use.
+/// SIM_PERIODIC_Z), a varying particle count (SIM_DYNAMIC_COUNT; HAS_EMITTERS, SIM_OPEN_FACES bits,
+/// SIM_KILL_BOXES count). Leaves out what the scene does not use.
 ShaderDefines simShaderDefines(const Scene& scene);
 
 /// Every C++-mirrored block of the simulation stage, for the layout tests.

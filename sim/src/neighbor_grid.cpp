@@ -25,6 +25,11 @@ ShaderDefines splitDefines(const GridSpec& spec) {
   if (spec.splitX > 1) d.set("SIM_GRID_SPLIT_X", spec.splitX);
   return d;
 }
+
+ShaderDefines liveDefines(ShaderDefines d, bool liveCount) {
+  if (liveCount) d.set("SIM_DYNAMIC_COUNT");
+  return d;
+}
 }  // namespace
 
 GridSpec GridSpec::forScene(const Scene& scene) {
@@ -36,7 +41,7 @@ GridSpec GridSpec::forScene(const Scene& scene) {
   return g;
 }
 
-NeighborGrid::NeighborGrid(DispatchGate& gate, const GridSpec& spec, uint32_t items)
+NeighborGrid::NeighborGrid(DispatchGate& gate, const GridSpec& spec, uint32_t items, bool liveCount)
     : gate_(&gate),
       spec_(spec),
       items_(checkedItems(items)),
@@ -45,17 +50,25 @@ NeighborGrid::NeighborGrid(DispatchGate& gate, const GridSpec& spec, uint32_t it
       cellRank_(std::max<size_t>(items, 1) * 8),
       sorted_(std::max<size_t>(items, 1) * 4),
       scan_(gate, spec.cells() + 2),
-      cells_(ShaderProgram::compute(simShaderTable(), "sim_grid_cells.comp", splitDefines(spec))),
-      scatter_(ShaderProgram::compute(simShaderTable(), "sim_grid_scatter.comp")),
+      liveCount_(liveCount),
+      cells_(ShaderProgram::compute(simShaderTable(), "sim_grid_cells.comp",
+                                    liveDefines(splitDefines(spec), liveCount))),
+      scatter_(ShaderProgram::compute(simShaderTable(), "sim_grid_scatter.comp", liveDefines({}, liveCount))),
       sort_(ShaderProgram::compute(simShaderTable(), "sim_grid_sort.comp", splitDefines(spec))),
       itemEntry_(gate.add(items, 64)),
       cellEntry_(gate.add(spec.cells(), 64)) {
-  // Constant per grid: set once (programs are owned by this grid).
-  glProgramUniform1ui(cells_.id(), cells_.uniform("uItemCount"), items);
+  if (liveCount) {
+    live_ = ShaderProgram::compute(simShaderTable(), "sim_grid_live.comp");
+    liveEntry_ = gate.add(1, 1);  // gated like the sort: a closed substep keeps the count
+    glProgramUniform1ui(live_.id(), live_.uniform("uCellCount"), spec.cells());
+  } else {
+    // Constant per grid: set once (programs are owned by this grid).
+    glProgramUniform1ui(cells_.id(), cells_.uniform("uItemCount"), items);
+    glProgramUniform1ui(scatter_.id(), scatter_.uniform("uItemCount"), items);
+  }
   glProgramUniform3f(cells_.id(), cells_.uniform("uGridMin"), spec.min[0], spec.min[1], spec.min[2]);
   glProgramUniform1f(cells_.id(), cells_.uniform("uInvCellSize"), 1.0f / spec.cellSize);
   glProgramUniform3i(cells_.id(), cells_.uniform("uDims"), spec.dims[0], spec.dims[1], spec.dims[2]);
-  glProgramUniform1ui(scatter_.id(), scatter_.uniform("uItemCount"), items);
   glProgramUniform1ui(sort_.id(), sort_.uniform("uCellCount"), spec.cells());
 }
 
@@ -83,6 +96,11 @@ void NeighborGrid::build(const GpuBuffer& srcPos, const GpuBuffer& srcVel, const
   sort_.use();
   gate_->dispatch(cellEntry_, "sim_grid_sort.comp");
   storageBarrier();
+  if (liveCount_) {
+    live_.use();
+    gate_->dispatch(liveEntry_, "sim_grid_live.comp");
+    storageBarrier();
+  }
 }
 
 }  // namespace sphfx::sim

@@ -32,10 +32,13 @@ struct GridSpec {
 
 class NeighborGrid {
  public:
-  /// Buffers and programs for `items` items. Registers its dispatches with `gate`.
+  /// Buffers and programs for `items` items. Registers its dispatches with `gate`. With `liveCount`
+  /// (the fluid of a scene whose particle count changes) `items` is the capacity: the build sorts the
+  /// first dynLive items (sph_dynamic.glsl, bound at SPHFX_SSBO_SIM_DYNAMIC by the caller) and sets
+  /// dynLive to those sorted into the grid's cells; items at SIM_REMOVED_POSITION drop out.
   /// @throws InputError for 2^30 items or more (the sort keys' limit).
   /// @throws GLError if a program does not build.
-  NeighborGrid(DispatchGate& gate, const GridSpec& spec, uint32_t items);
+  NeighborGrid(DispatchGate& gate, const GridSpec& spec, uint32_t items, bool liveCount = false);
 
   /// Sorts the items (vec4 srcPos/srcVel, `items` of each) by cell into dstPos/dstVel. GPU work only.
   void build(const GpuBuffer& srcPos, const GpuBuffer& srcVel, const GpuBuffer& dstPos,
@@ -58,8 +61,9 @@ class NeighborGrid {
   mutable GpuBuffer cellStart_;  // cleared by every build
   GpuBuffer rowStart_, cellRank_, sorted_;
   ExclusiveScan scan_;
-  ShaderProgram cells_, scatter_, sort_;
-  uint32_t itemEntry_, cellEntry_;
+  bool liveCount_;
+  ShaderProgram cells_, scatter_, sort_, live_;
+  uint32_t itemEntry_, cellEntry_, liveEntry_ = 0;
 };
 
 }  // namespace sphfx::sim

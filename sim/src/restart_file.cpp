@@ -20,9 +20,9 @@ std::string restartPath(const std::string& shotDir, int frame) {
 }
 
 uint64_t sceneStateHash(const Scene& scene) {
-  schema::Json j = sceneToJson(scene);
+  schema::Json j = sceneIdentityJson(scene);
   j["time"].erase("end_frame");
-  for (const char* k : {"cache", "surface", "render", "name"}) j.erase(k);
+  for (const char* k : {"cache", "surface", "render", "name", "limits"}) j.erase(k);
   const std::string text = j.dump();
   uint64_t h = 1469598103934665603ull;  // FNV-1a
   for (unsigned char c : text) h = (h ^ c) * 1099511628211ull;

@@ -25,6 +25,7 @@ ManifestJson frameJson(const FrameStats& f) {
   j["dt_mean"] = f.dtMean;
   j["dt_max"] = f.dtMax;
   j["wall_seconds"] = f.wallSeconds;
+  if (f.particles >= 0) j["particles"] = f.particles;
   for (const auto& [key, value] : f.solverStats) j[key] = value;
   return j;
 }
@@ -105,6 +106,7 @@ SimulationResult simulateShot(const Scene& scene, const SimulationOptions& o) {
     s["scene"] = ManifestJson::parse(sceneToJson(scene).dump());
     s["solver"] = methodEntry(pressureSolverRegistry(), scene.solver.method).name;
     s["particle_count"] = sim.particleCount();
+    if (scene.changesParticleCount()) s["max_particles"] = sim.capacity();
     s["boundary_samples"] = sim.boundaryCount();
     s["gl_renderer"] = result.renderer;
     s["frames"] = ManifestJson::array({write.first, write.last});
@@ -123,6 +125,7 @@ SimulationResult simulateShot(const Scene& scene, const SimulationOptions& o) {
   auto output = [&](const FrameStats& stats) {
     FrameOutput out;
     out.stats = stats;
+    if (scene.changesParticleCount()) out.stats.particles = sim.particleCount();
     if (write.contains(sim.frame())) {
       out.cache = sim.cacheFrame();
       out.cachePath = particleCachePath(o.shotDir, sim.frame());

@@ -39,27 +39,32 @@ Simulator::Simulator(const Scene& scene, const std::string& shotDir)
     : scene_(scene), frame_(scene.time.startFrame) {
   const SeededParticles seeds = seedParticles(scene);
   count_ = uint32_t(seeds.position.size());
-  if (count_ == 0) throw InputError("fluid.blocks: the blocks hold no particles at this spacing");
+  dynamic_ = scene.changesParticleCount();
+  // A varying count: the buffers are sized once for the most particles the scene can hold.
+  capacity_ = dynamic_ ? uint32_t(maxParticleCount(scene)) : count_;
+  if (capacity_ == 0) throw InputError("fluid.blocks: the blocks hold no particles at this spacing");
   defines_ = simShaderDefines(scene);
-  gate_ = std::make_unique<DispatchGate>(count_);
+  gate_ = std::make_unique<DispatchGate>(capacity_);
   const GridSpec spec = GridSpec::forScene(scene);
-  grid_ = std::make_unique<NeighborGrid>(*gate_, spec, count_);
-  boundary_ = std::make_unique<BoundaryAkinci2012>(scene, buildColliderFields(scene, shotDir), *gate_,
-                                                   spec, defines_);
+  grid_ = std::make_unique<NeighborGrid>(*gate_, spec, capacity_, dynamic_);
+  boundary_ = std::make_unique<BoundaryAkinci2012>(
+      wallSamplingScene(scene, boundaryLayers(scene) * scene.fluid.spacing), buildColliderFields(scene, shotDir),
+      *gate_, spec, defines_);
   solver_ = makePressureSolver(scene, *gate_, defines_, *boundary_);
   stepper_ = std::make_unique<SymplecticEuler>(*gate_, defines_);
   health_ = ShaderProgram::compute(simShaderTable(), "sim_health.comp", defines_);
 
-  const SimParams params = makeSimParams(scene, count_, boundary_->count(), gate_->entries());
+  const SimParams params = makeSimParams(scene, capacity_, boundary_->count(), gate_->entries());
   params_.resize(sizeof params);
   params_.upload(&params, sizeof params);
   state_.resize(sizeof(SimState));
-  posIn_ = vec4Buffer(count_);
-  velIn_ = vec4Buffer(count_);
-  pos_ = vec4Buffer(count_);
-  vel_ = vec4Buffer(count_);
-  accel_ = vec4Buffer(count_);
-  density_ = GpuBuffer(size_t(count_) * 8);
+  posIn_ = vec4Buffer(capacity_);
+  velIn_ = vec4Buffer(capacity_);
+  pos_ = vec4Buffer(capacity_);
+  vel_ = vec4Buffer(capacity_);
+  accel_ = vec4Buffer(capacity_);
+  density_ = GpuBuffer(size_t(capacity_) * 8);
+  if (dynamic_) setUpDynamic();
 
   SimulatorState initial;
   initial.frame = frame_;
@@ -73,10 +78,17 @@ Simulator::Simulator(const Scene& scene, const std::string& shotDir)
 }
 
 void Simulator::restoreState(const SimulatorState& s) {
-  if (s.position.size() != count_ || s.velocity.size() != count_)
-    throw InputError(
-        fmt::format("restart state has {} particles, the scene has {}", s.position.size(), count_));
+  if (dynamic_ ? (s.position.size() > capacity_ || s.velocity.size() != s.position.size())
+               : (s.position.size() != count_ || s.velocity.size() != count_))
+    throw InputError(fmt::format("restart state has {} particles, the scene {} {}", s.position.size(),
+                                 dynamic_ ? "holds at most" : "has", dynamic_ ? capacity_ : count_));
   frame_ = s.frame;
+  if (dynamic_) {
+    count_ = uint32_t(s.position.size());
+    std::vector<uint32_t> head(2 + std::max<size_t>(scene_.emitters.size(), 1), 0u);
+    head[0] = count_;
+    dynamicState_.upload(head.data(), head.size() * 4);
+  }
   posIn_.upload(s.position.data(), size_t(count_) * 16);
   velIn_.upload(s.velocity.data(), size_t(count_) * 16);
   // Density and pressure of the restored positions (cache attributes, health) and the static boundary
@@ -86,6 +98,10 @@ void Simulator::restoreState(const SimulatorState& s) {
   timer_.begin("boundary");
   params_.bindUniform(SPHFX_UBO_SIM_PARAMS);
   state_.bindStorage(SPHFX_SSBO_SIM_STATE);
+  if (dynamic_) {
+    bindDynamic();
+    syncEmitters();  // the emitters' layer counts and the next id at this frame's time
+  }
   boundary_->prepare();
   timer_.begin("grid");
   grid_->build(posIn_, velIn_, pos_, vel_);
@@ -123,11 +139,13 @@ void Simulator::bindSolverBuffers() const {
   density_.bindTexture(SPHFX_TEX_SIM_DENSITY, GL_RG32F);
   grid_->rowStart().bindTexture(SPHFX_TEX_SIM_CELL_START, GL_R32UI);
   boundary_->bind();
+  if (dynamic_) bindDynamic();
 }
 
 void Simulator::substep() {
   params_.bindUniform(SPHFX_UBO_SIM_PARAMS);
   state_.bindStorage(SPHFX_SSBO_SIM_STATE);
+  if (dynamic_) bindDynamic();
   timer_.begin("boundary");
   boundary_->update();
   timer_.begin("grid");
@@ -139,7 +157,106 @@ void Simulator::substep() {
   solver_->correctVelocities(timer_);
   bindSolverBuffers();
   stepper_->integrate(timer_);
+  if (!scene_.emitters.empty()) {
+    timer_.begin("emit");
+    emit();
+  }
   timer_.end();
+}
+
+void Simulator::setUpDynamic() {
+  // [live, next id, layers emitted per emitter] (sph_dynamic.glsl); restoreState() fills it.
+  dynamicState_ = GpuBuffer((2 + std::max<size_t>(scene_.emitters.size(), 1)) * 4);
+  if (!scene_.kill.empty()) {
+    std::vector<std::array<float, 4>> boxes;
+    for (const KillBox& k : scene_.kill) {
+      boxes.push_back({float(k.min[0]), float(k.min[1]), float(k.min[2]), 0.0f});
+      boxes.push_back({float(k.max[0]), float(k.max[1]), float(k.max[2]), 0.0f});
+    }
+    killBoxes_ = GpuBuffer(boxes.size() * 16);
+    killBoxes_.uploadVector(boxes);
+  }
+  if (scene_.emitters.empty()) return;
+  std::vector<EmitterGpu> table;
+  std::vector<std::array<float, 4>> points;
+  for (size_t e = 0; e < scene_.emitters.size(); ++e) {
+    const Emitter& em = scene_.emitters[e];
+    const std::vector<Vec3d> layer = emitterLayerPoints(scene_, em);
+    const double len = std::sqrt(em.direction[0] * em.direction[0] + em.direction[1] * em.direction[1] +
+                                 em.direction[2] * em.direction[2]);
+    EmitterGpu g{};
+    g.time[0] = em.start;
+    g.time[1] = scene_.fluid.spacing / em.speed;
+    for (int a = 0; a < 3; ++a) g.dirSpeed[a] = float(em.direction[a] / len);
+    g.dirSpeed[3] = float(em.speed);
+    g.info[0] = uint32_t(layer.size());
+    g.info[1] = uint32_t(points.size());
+    g.info[2] = uint32_t(emitterLayers(scene_, em));
+    table.push_back(g);
+    for (const Vec3d& p : layer)
+      points.push_back({float(p[0]), float(p[1]), float(p[2]), std::bit_cast<float>(uint32_t(e))});
+  }
+  emitterPointCount_ = uint32_t(points.size());
+  emitters_ = GpuBuffer(table.size() * sizeof(EmitterGpu));
+  emitters_.upload(table.data(), table.size() * sizeof(EmitterGpu));
+  emitterPoints_ = GpuBuffer(points.size() * 16);
+  emitterPoints_.uploadVector(points);
+  emit_ = ShaderProgram::compute(simShaderTable(), "sim_emit.comp", defines_);
+  emitCommit_ = ShaderProgram::compute(simShaderTable(), "sim_emit_commit.comp", defines_);
+  glProgramUniform1ui(emit_.id(), emit_.uniform("uPoints"), emitterPointCount_);
+  glProgramUniform1ui(emitCommit_.id(), emitCommit_.uniform("uEmitters"), uint32_t(table.size()));
+  glProgramUniform1ui(emitCommit_.id(), emitCommit_.uniform("uInitialParticles"),
+                      uint32_t(countInitialParticles(scene_)));
+}
+
+void Simulator::bindDynamic() const {
+  dynamicState_.bindStorage(SPHFX_SSBO_SIM_DYNAMIC);
+  if (!scene_.emitters.empty()) {
+    emitters_.bindStorage(SPHFX_SSBO_SIM_EMITTERS);
+    emitterPoints_.bindStorage(SPHFX_SSBO_SIM_EMITTER_POINTS);
+  }
+  if (!scene_.kill.empty()) killBoxes_.bindStorage(SPHFX_SSBO_SIM_KILL_BOXES);
+}
+
+// The due layers after the live particles, then the counts (sim_emit.comp, sim_emit_commit.comp). Not
+// gated: once the frame is reached no layer is due, so a queued substep past it emits nothing.
+void Simulator::emit() const {
+  emit_.use();
+  dispatchCompute1D(emit_, emitterPointCount_, "sim_emit.comp");
+  storageBarrier();
+  emitCommit_.use();
+  glProgramUniform1ui(emitCommit_.id(), emitCommit_.uniform("uSync"), 0u);
+  glDispatchCompute(1, 1, 1);
+  glCheck("sim_emit_commit.comp");
+  storageBarrier();
+}
+
+void Simulator::syncEmitters() const {
+  if (scene_.emitters.empty()) return;
+  emitCommit_.use();
+  glProgramUniform1ui(emitCommit_.id(), emitCommit_.uniform("uSync"), 1u);
+  glDispatchCompute(1, 1, 1);
+  glCheck("sim_emit_commit.comp");
+  storageBarrier();
+}
+
+// The frame's end state without its removed particles: a grid build compacts the live ones into the
+// sorted copies, which become the state (the next substep's sort of an already sorted state gives the
+// order it would have given anyway: the sort is stable), and the live count is read back.
+void Simulator::compact() {
+  gate_->arm();
+  params_.bindUniform(SPHFX_UBO_SIM_PARAMS);
+  state_.bindStorage(SPHFX_SSBO_SIM_STATE);
+  bindDynamic();
+  timer_.begin("compact");
+  grid_->build(posIn_, velIn_, pos_, vel_);
+  timer_.end();
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+  uint32_t live = 0;
+  dynamicState_.download(&live, 4);
+  count_ = live;
+  glCopyNamedBufferSubData(pos_.id(), posIn_.id(), 0, 0, GLsizeiptr(capacity_) * 16);
+  glCopyNamedBufferSubData(vel_.id(), velIn_.id(), 0, 0, GLsizeiptr(capacity_) * 16);
 }
 
 SimState Simulator::readState() const {
@@ -164,10 +281,11 @@ FrameStats Simulator::advance() {
     const double remaining = s.frameEnd - s.time;
     batch = int(std::clamp(std::ceil(remaining / std::max<double>(s.dt, 1e-12)), 1.0, 256.0));
   }
+  if (dynamic_) compact();
   timer_.begin("health");
   bindSolverBuffers();
   health_.use();
-  dispatchCompute1D(health_, count_, "sim_health.comp");
+  dispatchCompute1D(health_, capacity_, "sim_health.comp");
   timer_.end();
   s = readState();
   timer_.collect();
@@ -182,6 +300,7 @@ FrameStats Simulator::advance() {
   f.dtMax = s.dtHigh;
   f.dtMean = s.substeps ? s.dtSum / s.substeps : 0;
   f.solverStats = solver_->frameStats();
+  if (dynamic_) f.particles = int64_t(count_);
   f.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   return f;
 }
@@ -220,6 +339,7 @@ void Simulator::checkHealth(const SimState& s) const {
 // run).
 std::string Simulator::whereDensest() const {
   glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+  if (count_ == 0) return "";
   const auto rho = density_.downloadVector<std::array<float, 2>>(count_);
   const auto pos = pos_.downloadVector<std::array<float, 4>>(count_);
   uint32_t densest = 0;
@@ -274,6 +394,7 @@ void Simulator::refreshFrameDensity() {
   timer_.begin("frame_density");
   params_.bindUniform(SPHFX_UBO_SIM_PARAMS);
   state_.bindStorage(SPHFX_SSBO_SIM_STATE);
+  if (dynamic_) bindDynamic();
   boundary_->update();
   grid_->build(posIn_, velIn_, pos_, vel_);
   bindSolverBuffers();
@@ -303,7 +424,8 @@ ParticleFrame Simulator::cacheFrame() const {
       if (wantPressure) f.pressure.push_back(v[1] * v[0] * v[0]);  // stored as p / rho^2
     }
   }
-  if (scene_.hasCacheAttribute(CacheAttribute::Id))
+  // A count that changes needs ids to follow a particle from frame to frame: cached always then.
+  if (scene_.hasCacheAttribute(CacheAttribute::Id) || dynamic_)
     for (const auto& p : s.position) f.id.push_back(std::bit_cast<int32_t>(p[3]));
   return f;
 }

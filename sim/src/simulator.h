@@ -53,7 +53,10 @@ class Simulator {
   FrameStats advance();
 
   int frame() const { return frame_; }
+  /// Particles at the current frame (with emitters, kill boxes or open faces it changes frame by frame).
   uint32_t particleCount() const { return count_; }
+  /// Particles the buffers hold: maxParticleCount() of the scene.
+  uint32_t capacity() const { return capacity_; }
   uint32_t boundaryCount() const { return boundary_->count(); }
 
   /// The current frame as a cache (attributes as the scene asks). Density and pressure are those of the
@@ -61,7 +64,7 @@ class Simulator {
   /// final state (the last substep's were computed before its integration). Downloads from the GPU.
   ParticleFrame cacheFrame() const;
   SimulatorState saveState() const;
-  /// @throws InputError if the particle count differs.
+  /// @throws InputError if the particle count differs (a scene whose count changes: exceeds the capacity).
   void restoreState(const SimulatorState& state);
 
   /// GPU time per pass (seconds) when timing is on.
@@ -83,9 +86,17 @@ class Simulator {
   SimulatorState downloadState(const GpuBuffer& position, const GpuBuffer& velocity) const;
   void checkHealth(const SimState& s) const;
   std::string whereDensest() const;
+  // A scene whose particle count changes (Scene::changesParticleCount()).
+  void setUpDynamic();
+  void bindDynamic() const;
+  void emit() const;
+  void syncEmitters() const;
+  void compact();
 
   Scene scene_;
   uint32_t count_ = 0;
+  uint32_t capacity_ = 0;
+  bool dynamic_ = false;
   int frame_ = 0;
   int lastSubsteps_ = 8;
   ShaderDefines defines_;
@@ -96,6 +107,9 @@ class Simulator {
   std::unique_ptr<PressureSolver> solver_;
   std::unique_ptr<SymplecticEuler> stepper_;
   ShaderProgram health_;
+  GpuBuffer dynamicState_, emitters_, emitterPoints_, killBoxes_;  // sph_dynamic.glsl, sph_emitters.glsl
+  ShaderProgram emit_, emitCommit_;
+  uint32_t emitterPointCount_ = 0;
   mutable PassTimer timer_;
 };
 

@@ -4,6 +4,7 @@
 
 #include "bindings.h"
 #include "boundary_akinci2012.h"
+#include "gpu_types.h"
 #include "sim_shaders.h"
 
 namespace sphfx::sim {
@@ -22,7 +23,7 @@ WCSPHSolver::WCSPHSolver(const Scene& scene, const DispatchGate& gate, const Sha
       density_(ShaderProgram::compute(simShaderTable(), "sim_density.comp", withNeighborList(defines))),
       boundaryPressure_(ShaderProgram::compute(simShaderTable(), "sim_boundary_pressure.comp", defines)),
       force_(ShaderProgram::compute(simShaderTable(), "sim_force.comp", withNeighborList(defines))),
-      neighbors_(std::max<size_t>(countInitialParticles(scene), 1) * 18 * 4),
+      neighbors_(std::max<size_t>(maxParticleCount(scene), 1) * 18 * 4),
       boundaryPressures_(std::max<size_t>(boundarySamples, 1) * 4) {}
 
 void WCSPHSolver::computeDensity(PassTimer& timer) const {

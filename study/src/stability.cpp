@@ -289,7 +289,7 @@ std::string stabilityInputsDigest(const StabilitySuite& suite, bool quick) {
   for (const auto& [c, solver, dt] : stabilityPlan(suite, quick))
     text += fmt::format("{} {} {} criteria {} known {}\n{}\n", c->name, solver, dt,
                         fmt::join(c->criteriaNames, ","), fmt::join(c->knownMisses, ","),
-                        sceneToJson(resolveStabilityScene(suite, *c, solver, dt)).dump());
+                        sceneIdentityJson(resolveStabilityScene(suite, *c, solver, dt)).dump());
   return fnv1aHex(text);
 }
 

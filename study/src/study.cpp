@@ -77,7 +77,7 @@ std::string studyInputsDigest(const StudySpec& spec) {
   std::string text = spec.name + "\n";
   for (const StudyCase& c : spec.cases)
     for (const GridPoint& point : gridPoints(c))
-      text += c.name + "\n" + sceneToJson(resolveRunScene(spec, c, point)).dump() + "\n";
+      text += c.name + "\n" + sceneIdentityJson(resolveRunScene(spec, c, point)).dump() + "\n";
   return fnv1aHex(text);
 }
 

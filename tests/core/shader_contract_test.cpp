@@ -98,6 +98,10 @@ const std::map<std::string, Constant>& blockBindings() {
       {"GridNeighbors", SPHFX_CONSTANT(SPHFX_SSBO_SIM_GRID_NEIGHBORS)},
       {"ScanData", SPHFX_CONSTANT(SPHFX_SSBO_SIM_SCAN_DATA)},
       {"ScanSums", SPHFX_CONSTANT(SPHFX_SSBO_SIM_SCAN_SUMS)},
+      {"SimDynamic", SPHFX_CONSTANT(SPHFX_SSBO_SIM_DYNAMIC)},
+      {"SimEmitters", SPHFX_CONSTANT(SPHFX_SSBO_SIM_EMITTERS)},
+      {"SimEmitterPoints", SPHFX_CONSTANT(SPHFX_SSBO_SIM_EMITTER_POINTS)},
+      {"SimKillBoxes", SPHFX_CONSTANT(SPHFX_SSBO_SIM_KILL_BOXES)},
       // render
       {"RenderParams", SPHFX_CONSTANT(SPHFX_UBO_RENDER_PARAMS)},
       {"RenderParticles", SPHFX_CONSTANT(SPHFX_SSBO_RENDER_PARTICLES)},
@@ -182,6 +186,17 @@ void addSimPrograms(const Scene& scene, const std::string& variant, std::vector<
   if (sim::gridSplitX(scene) > 1) split.set("SIM_GRID_SPLIT_X", sim::gridSplitX(scene));
   add("sim_grid_cells.comp", split);
   add("sim_grid_scatter.comp", {});
+  if (scene.changesParticleCount()) {  // the fluid grid with a live count; emitters (simulator.cpp)
+    ShaderDefines live = split;
+    live.set("SIM_DYNAMIC_COUNT");
+    add("sim_grid_cells.comp", live);
+    add("sim_grid_scatter.comp", ShaderDefines().set("SIM_DYNAMIC_COUNT"));
+    add("sim_grid_live.comp", {});
+  }
+  if (!scene.emitters.empty()) {
+    add("sim_emit.comp", d);
+    add("sim_emit_commit.comp", d);
+  }
   add("sim_grid_sort.comp", split);
   add("sim_scan_blocks.comp", {});
   add("sim_scan_add.comp", {});

@@ -31,15 +31,22 @@ enum class ColorBy { Height, Speed };
 enum class ImageFormat { Png, Exr };
 /// Axes along which the domain may wrap around (periodic boundaries).
 enum class PeriodicAxis { X, Z };
+/// Faces of the domain box; an open face has no wall and removes the particles that leave through it.
+enum class DomainFace { XMin, XMax, YMin, YMax, ZMin, ZMax };
+/// Shapes of an emitter (a nozzle that adds particles while it is active).
+enum class EmitterShape { Disc };
 
 /// The simulation domain: a box with solid walls on its six sides, except the faces of periodic axes.
 struct Domain {
   Vec3d min{};
   Vec3d max{};
   std::vector<PeriodicAxis> periodic;  ///< wrapped axes: no walls there, [min, max) repeats
+  std::vector<DomainFace> open;        ///< faces without walls: particles leaving through them are removed
   /// True if axis 0 (x) or 2 (z) wraps around; y never does.
   bool isPeriodic(int axis) const;
   bool anyPeriodic() const { return !periodic.empty(); }
+  /// True if the face of `axis` on `side` (0: min, 1: max) is open.
+  bool isOpen(int axis, int side) const;
 };
 
 /// A block of fluid present at the first frame.
@@ -138,6 +145,29 @@ struct Collider {
   bool isField() const { return shape == Shape::Mesh || shape == Shape::Vdb; }
 };
 
+/// A nozzle adding fluid on the lattice of fluid.spacing while it is active: a disc emits a new layer of
+/// its lattice points each time the emitted fluid has advanced one spacing along `direction`.
+struct Emitter {
+  std::string name;
+  EmitterShape shape = EmitterShape::Disc;
+  Vec3d center{};
+  double radius = 0;
+  Vec3d direction{0, -1, 0};  ///< unit vector (normalised on load)
+  double speed = 0;           ///< m/s along direction; also the emitted particles' velocity
+  double start = 0;           ///< s
+  double end = 0;             ///< s; emission covers [start, end)
+};
+
+/// A box that removes the particles entering it.
+struct KillBox {
+  Vec3d min{};
+  Vec3d max{};
+};
+
+struct Limits {
+  int maxParticles = 0;  ///< most particles a scene may hold at once (initial + all its emitters emit)
+};
+
 struct Health {
   double maxDensityRatio = 0;  ///< stop if any density exceeds this multiple of rest density
   double maxSpeed = 0;         ///< stop if any particle is faster than this (m/s)
@@ -196,6 +226,9 @@ struct Scene {
   SolverSettings solver;
   TimeSettings time;
   std::vector<Collider> colliders;
+  std::vector<Emitter> emitters;
+  std::vector<KillBox> kill;
+  Limits limits;
   Health health;
   CacheSettings cache;
   SurfaceSettings surface;
@@ -208,6 +241,8 @@ struct Scene {
   /// Simulated time of a frame number (the start frame is t = 0).
   double frameTime(int frame) const { return double(frame - time.startFrame) / time.fps; }
   bool hasCacheAttribute(CacheAttribute a) const;
+  /// True if the particle count can change during the run (emitters, kill boxes or open faces).
+  bool changesParticleCount() const { return !emitters.empty() || !kill.empty() || !domain.open.empty(); }
 };
 
 /// The scene schema (all declarations). Used for validation, resolved output and docs.
@@ -242,6 +277,12 @@ Scene loadScene(const std::string& path, const std::vector<std::string>& overrid
 /// The resolved scene as JSON, every default filled in. parseScene(sceneToJson(s)) == s.
 schema::Json sceneToJson(const Scene& scene);
 
+/// sceneToJson less the keys of features the scene does not use (no emitters, kill boxes or open faces,
+/// keyframes without rotation, the default particle limit): what identifies a scene's results. Adding
+/// a feature to sphfx leaves the identity of scenes that do not use it unchanged, so restart files and
+/// committed study digests stay valid.
+schema::Json sceneIdentityJson(const Scene& scene);
+
 /// The parameter reference as Markdown (docs/scene-format.md is this text).
 std::string sceneReferenceMarkdown();
 
@@ -258,5 +299,19 @@ struct SeededParticles {
   std::vector<std::array<float, 3>> velocity;
 };
 SeededParticles seedParticles(const Scene& scene);
+
+/// The lattice points of one layer of an emitter: a disc's points center + spacing (a u + b w) for
+/// integers a, b within its radius, (u, w) an orthonormal basis of the disc's plane (emitterBasis()).
+std::vector<Vec3d> emitterLayerPoints(const Scene& scene, const Emitter& emitter);
+/// Unit vectors u, w spanning the plane normal to `direction` (unit): deterministic, right-handed.
+std::array<Vec3d, 2> emitterBasis(const Vec3d& direction);
+/// Layers an emitter emits over its active time: layer k leaves at start + k spacing / speed, for every
+/// k with that time before end.
+size_t emitterLayers(const Scene& scene, const Emitter& emitter);
+/// Particles an emitter adds over its active time (layers x points per layer).
+size_t countEmittedParticles(const Scene& scene, const Emitter& emitter);
+/// The most particles the scene can hold at once: the initial ones plus all that its emitters add. The
+/// GPU buffers are sized for it once.
+size_t maxParticleCount(const Scene& scene);
 
 }  // namespace sphfx

@@ -21,6 +21,7 @@ struct FrameStats {
   int substeps = 0;
   double dtMin = 0, dtMean = 0, dtMax = 0;
   double wallSeconds = 0;
+  int64_t particles = -1;  ///< particles at the frame's end; -1: the scene's count never changes
   std::vector<std::pair<std::string, double>> solverStats;  ///< the pressure solver's, name and value
 };
 
