@@ -37,12 +37,16 @@ Stage parseStage(const std::string& name) {
   throw InputError("--from: expected simulate, surface or render, got \"" + name + "\"");
 }
 
-/// The simulation of this exact scene already finished in this shot.
+/// The simulation of this exact scene already finished in this shot, over all of the scene's frames (a
+/// `sphfx simulate --frames` run of part of them is continued, not taken as done).
 bool simulationComplete(const std::string& shot, const Scene& scene) {
   const ManifestJson m = readManifest(shot);
   if (!m.contains("simulate")) return false;
   const auto& s = m["simulate"];
-  return s.value("status", "") == "complete" && s.contains("scene") &&
+  const bool allFrames = s.contains("frames") && s["frames"].is_array() && s["frames"].size() == 2 &&
+                         s["frames"][0].get<int>() <= scene.time.startFrame &&
+                         s["frames"][1].get<int>() >= scene.time.endFrame;
+  return s.value("status", "") == "complete" && allFrames && s.contains("scene") &&
          s["scene"] == ManifestJson::parse(sceneToJson(scene).dump());
 }
 

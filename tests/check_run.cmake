@@ -1,4 +1,4 @@
-# End to end: `sphfx run` on a tiny dam break writes caches, meshes and images; a second run skips every stage.
+# End to end: `sphfx run` on a tiny version of SCENE writes caches, meshes and images; a second run skips every stage.
 file(REMOVE_RECURSE "${SHOT}")
 set(args run "${SCENE}" -o "${SHOT}" --set fluid.spacing=0.04 --set time.end_frame=4 --size 160x90 --samples 1)
 execute_process(COMMAND "${EXE}" ${args} RESULT_VARIABLE code ERROR_VARIABLE err)

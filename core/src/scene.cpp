@@ -387,10 +387,10 @@ std::shared_ptr<const Object<Emitter>> emitterSchema() {
                 "Radius of the disc; its layer holds the lattice points (spacing fluid.spacing) within it.")
         .vec3("direction", &Emitter::direction, {0, -1, 0}, "", Range::any(),
               "Direction of the flow, the disc's normal (any length; normalised where used).")
-        .number("speed", &Emitter::speed, 1, "m/s", Range{0, 1e4, true, false},
+        .number("velocity", &Emitter::speed, 1, "m/s", Range{0, 1e4, true, false},
                 "Speed of the emitted fluid along direction: the particles enter with this velocity, and a "
                 "new lattice layer enters each time the fluid has advanced one spacing, so the mass flow "
-                "is rest_density x speed x the disc's lattice area.")
+                "is rest_density x velocity x the disc's lattice area.")
         .number("start", &Emitter::start, 0, "s", Range::any(),
                 "Time emission starts (frame start_frame is 0 s).")
         .number("end", &Emitter::end, 0, "s", Range::any(),

@@ -108,7 +108,7 @@ std::vector<TriangleMesh> colliderMeshes(const Scene& scene) {
     else if (c.shape == Shape::Sphere)
       meshes.push_back(makeUvSphere(c.center, c.radius, 32, 64));
     else
-      meshes.push_back(colliderRestMesh(c));
+      meshes.push_back(withCreaseNormals(colliderRestMesh(c), 40));
   }
   return meshes;
 }

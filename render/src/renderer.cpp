@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
+#include <map>
 #include <limits>
 
 #include "gpu_layouts.h"
@@ -37,6 +39,47 @@ TriangleMesh makeUvSphere(const Vec3d& center, double radius, int stacks, int sl
       if (i + 1 < stacks) m.triangles.push_back({at(i, j + 1), at(i + 1, j + 1), at(i + 1, j)});
     }
   return m;
+}
+
+TriangleMesh withCreaseNormals(const TriangleMesh& m, double creaseDegrees) {
+  std::map<std::array<float, 3>, uint32_t> weld;
+  std::vector<uint32_t> id(m.positions.size());
+  for (size_t i = 0; i < m.positions.size(); ++i) id[i] = weld.emplace(m.positions[i], uint32_t(weld.size())).first->second;
+  std::vector<std::array<double, 3>> faceNormal(m.triangles.size());  // area-weighted
+  std::vector<std::vector<uint32_t>> around(weld.size());
+  for (size_t t = 0; t < m.triangles.size(); ++t) {
+    const auto &a = m.positions[m.triangles[t][0]], &b = m.positions[m.triangles[t][1]], &c = m.positions[m.triangles[t][2]];
+    const double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    faceNormal[t] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+    for (uint32_t v : m.triangles[t]) around[id[v]].push_back(uint32_t(t));
+  }
+  auto unit = [](std::array<double, 3> n) {
+    const double l = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    if (l > 0)
+      for (double& c : n) c /= l;
+    return n;
+  };
+  const double cosCrease = std::cos(creaseDegrees * std::numbers::pi / 180.0);
+  TriangleMesh out;
+  for (size_t t = 0; t < m.triangles.size(); ++t) {
+    const auto own = unit(faceNormal[t]);
+    std::array<uint32_t, 3> tri{};
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t v = m.triangles[t][k];
+      std::array<double, 3> sum{};
+      for (uint32_t f : around[id[v]]) {
+        const auto n = unit(faceNormal[f]);
+        if (n[0] * own[0] + n[1] * own[1] + n[2] * own[2] < cosCrease) continue;
+        for (int a = 0; a < 3; ++a) sum[a] += faceNormal[f][a];
+      }
+      const auto n = unit(sum);
+      tri[k] = uint32_t(out.positions.size());
+      out.positions.push_back(m.positions[v]);
+      out.normals.push_back({float(n[0]), float(n[1]), float(n[2])});
+    }
+    out.triangles.push_back(tri);
+  }
+  return out;
 }
 
 TriangleMesh makeBox(const Vec3d& lo, const Vec3d& hi) {
@@ -259,6 +302,7 @@ TriangleMesh makeWalls(const Domain& d) {
   TriangleMesh walls;
   for (size_t face = 0; face < 6; ++face) {
     if (face == 2 || face == 3) continue;  // makeBox orders faces -x,+x,-y,+y,-z,+z: skip floor and top
+    if (d.isOpen(int(face / 2), int(face % 2))) continue;  // an outflow face has no wall to draw
     const uint32_t base = uint32_t(walls.positions.size());
     for (int k = 0; k < 4; ++k) {
       walls.positions.push_back(box.positions[face * 4 + k]);

@@ -73,6 +73,10 @@ ImpostorSplit splitImpostors(const std::vector<ParticleInstance>& particles, flo
 TriangleMesh makeUvSphere(const Vec3d& center, double radius, int stacks, int slices);
 /// An axis-aligned box with outward normals (flat shaded: 24 vertices).
 TriangleMesh makeBox(const Vec3d& min, const Vec3d& max);
+/// The same surface with hard edges kept: one vertex per triangle corner, its normal averaged over the
+/// triangles around the (position-welded) vertex that turn less than `creaseDegrees` from the corner's
+/// own triangle. Stairs stay sharp, a tessellated sphere stays smooth.
+TriangleMesh withCreaseNormals(const TriangleMesh& mesh, double creaseDegrees);
 
 class Renderer {
  public:

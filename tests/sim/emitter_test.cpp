@@ -63,7 +63,7 @@ Scene nozzleScene(const std::string& kernel) {
                              kernel + R"("}},
     "time": {"fps": 50, "start_frame": 1, "end_frame": 16},
     "emitters": [{"name": "nozzle", "center": [0.15, 0.4, 0.15], "radius": 0.088, "direction": [0, -1, 0],
-                  "speed": 1.0, "start": 0.01, "end": 1.0}]
+                  "velocity": 1.0, "start": 0.01, "end": 1.0}]
   })");
 }
 
@@ -176,7 +176,7 @@ TEST(Emitters, DeterministicAndResumableWithVaryingCounts) {
       "fluid": {"spacing": 0.02, "blocks": []},
       "time": {"fps": 40, "start_frame": 1, "end_frame": )" +
                                std::to_string(endFrame) + R"(},
-      "emitters": [{"center": [0.1, 0.2, 0.1], "radius": 0.05, "direction": [0.3, -1, 0], "speed": 2.0,
+      "emitters": [{"center": [0.1, 0.2, 0.1], "radius": 0.05, "direction": [0.3, -1, 0], "velocity": 2.0,
                     "start": 0.05, "end": 0.2}],
       "kill": [{"min": [0.14, 0.0, 0.0], "max": [0.2, 0.1, 0.2]}],
       "cache": {"attributes": ["density"]}
