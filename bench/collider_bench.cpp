@@ -86,8 +86,8 @@ void fieldBuild(size_t triangles, double spacing) {
       "field: %zu triangles (%.1f MB STL), read %.2f s; SDF at voxel %.4f m: %d x %d x %d = %.1fM voxels, "
       "built (read + meshToSignedDistanceField + dense copy + cache write) in %.2f s; from the shot's cache "
       "in %.2f s (%s)\n",
-      m.triangles.size(), double(fs::file_size(file)) / 1e6, read, spec.voxel, f.dims[0], f.dims[1], f.dims[2],
-      double(f.voxelCount()) / 1e6, build, cached, rebuilt ? "rebuilt!" : "not rebuilt");
+      m.triangles.size(), double(fs::file_size(file)) / 1e6, read, spec.voxel, f.dims[0], f.dims[1],
+      f.dims[2], double(f.voxelCount()) / 1e6, build, cached, rebuilt ? "rebuilt!" : "not rebuilt");
   fs::remove_all(dir);
 }
 
@@ -106,7 +106,8 @@ void meshAgainstAnalytic(int frames, int rounds) {
     std::ofstream out(obj);
     const double lo[3] = {0.6, 0, 0}, hi[3] = {0.7, 0.1, 0.1};
     for (int k = 0; k < 8; ++k)
-      out << "v " << (k & 1 ? hi[0] : lo[0]) << ' ' << (k & 2 ? hi[1] : lo[1]) << ' ' << (k & 4 ? hi[2] : lo[2]) << '\n';
+      out << "v " << (k & 1 ? hi[0] : lo[0]) << ' ' << (k & 2 ? hi[1] : lo[1]) << ' '
+          << (k & 4 ? hi[2] : lo[2]) << '\n';
     out << "f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n";
   }
   const std::string base = std::string(SPHFX_SOURCE_DIR) + "/scenes/dam_break.json";

@@ -23,6 +23,9 @@ void main() {
 #if defined(SIM_PERIODIC_X)
   outside = outside || x.x >= simDomainMax.x;  // periodic: [min, max), max is min's image
 #endif
+#if defined(SIM_PERIODIC_Y)
+  outside = outside || x.y >= simDomainMax.y;
+#endif
 #if defined(SIM_PERIODIC_Z)
   outside = outside || x.z >= simDomainMax.z;
 #endif

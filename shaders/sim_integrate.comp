@@ -6,7 +6,7 @@
 #if defined(HAS_COLLIDERS)
 #include "sph_colliders.glsl"
 #endif
-#if defined(SIM_PERIODIC_X) || defined(SIM_PERIODIC_Z)
+#if defined(SIM_PERIODIC_X) || defined(SIM_PERIODIC_Y) || defined(SIM_PERIODIC_Z)
 #include "sph_kernels.glsl"
 #endif
 layout(local_size_x = SIM_WG) in;
@@ -35,6 +35,9 @@ void main() {
 #if defined(SIM_PERIODIC_X)
     if (k == 0) continue;  // no wall: wrapped below
 #endif
+#if defined(SIM_PERIODIC_Y)
+    if (k == 1) continue;
+#endif
 #if defined(SIM_PERIODIC_Z)
     if (k == 2) continue;
 #endif
@@ -47,7 +50,7 @@ void main() {
     if (x[k] > hi[k]) { x[k] = hi[k]; v[k] = min(v[k], 0.0); }
 #endif
   }
-#if defined(SIM_PERIODIC_X) || defined(SIM_PERIODIC_Z)
+#if defined(SIM_PERIODIC_X) || defined(SIM_PERIODIC_Y) || defined(SIM_PERIODIC_Z)
   x = sphWrapPosition(x);  // into [min, max): the grid, the health check and the caches see one image
 #endif
 #if defined(HAS_COLLIDERS)

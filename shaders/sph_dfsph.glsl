@@ -1,5 +1,5 @@
 // DFSPH (Bender & Koschier 2015/2017) data shared by the sim_dfsph_*.comp passes. Needs sph_params.glsl.
-#if defined(SIM_PERIODIC_X) || defined(SIM_PERIODIC_Z)
+#if defined(SIM_PERIODIC_X) || defined(SIM_PERIODIC_Y) || defined(SIM_PERIODIC_Z)
 #error "the DFSPH passes have no periodic boundaries (scenes with both are rejected)"
 #endif
 //

@@ -49,9 +49,10 @@ float sphPressure(float rho) {
 
 // Row (dy, dz) of the 3x3x3 cell neighbourhood of `cell`: cells (x-1..x+1, y+dy, z+dz) are contiguous
 // in the sorted order because x varies fastest, so the whole row is one range of the sorted arrays,
-// from starts[first] to starts[last]. False for rows outside the grid. With SIM_PERIODIC_Z the rows
-// wrap around in z (the grid has >= 3 cells there, so no row is visited twice); with SIM_PERIODIC_X
-// this is the part of the row inside the grid and sphRowWrap() gives the cell across the seam.
+// from starts[first] to starts[last]. False for rows outside the grid. With SIM_PERIODIC_Y and
+// SIM_PERIODIC_Z the rows wrap around in y and z (the grid has >= 3 cells there, so no row is visited
+// twice); with SIM_PERIODIC_X this is the part of the row inside the grid and sphRowWrap() gives the
+// cell across the seam.
 //
 // With SIM_GRID_SPLIT_X (sphfx::sim::gridSplitX(): each cell ordered in slabs of h / split in x, and
 // the starts indexed per slab, NeighborGrid::rowStart()) the range is trimmed to the x-interval that the
@@ -60,6 +61,9 @@ float sphPressure(float rho) {
 // widened by 1e-3 h so that rounding never drops a neighbour; beyond h every kernel is 0.
 bool sphRow(vec3 xi, ivec3 cell, int dy, int dz, out uint first, out uint last) {
   ivec3 r = cell + ivec3(0, dy, dz);
+#if defined(SIM_PERIODIC_Y)
+  r.y = (r.y + simGridDims.y) % simGridDims.y;
+#endif
 #if defined(SIM_PERIODIC_Z)
   r.z = (r.z + simGridDims.z) % simGridDims.z;
 #endif
@@ -69,12 +73,15 @@ bool sphRow(vec3 xi, ivec3 cell, int dy, int dz, out uint first, out uint last) 
   uint base = uint(slabs * (r.y + simGridDims.y * r.z));
   // Gap between xi and the row's cells in y and z (0 in the particle's own row). The border rows also
   // hold the items up to h outside the grid (sim_grid_cells.comp), so they reach out to infinity. A
-  // periodic z row may lie across the seam, so z is not trimmed there.
+  // periodic y or z row may lie across the seam, so that axis is not trimmed there.
   float h = simDomainMin.w;
   vec2 low = simDomainMin.yz + vec2(r.yz) * h, high = low + h;
   low = mix(low, vec2(-1e30), equal(r.yz, ivec2(0)));
   high = mix(high, vec2(1e30), equal(r.yz, simGridDims.yz - 1));
   vec2 gap = max(max(low - xi.yz, xi.yz - high), 0.0);
+#if defined(SIM_PERIODIC_Y)
+  gap.x = 0.0;
+#endif
 #if defined(SIM_PERIODIC_Z)
   gap.y = 0.0;
 #endif
@@ -93,7 +100,7 @@ bool sphRow(vec3 xi, ivec3 cell, int dy, int dz, out uint first, out uint last) 
   return true;
 }
 
-// Periodic boundaries (SIM_PERIODIC_X, SIM_PERIODIC_Z; scene domain.periodic). A periodic axis has
+// Periodic boundaries (SIM_PERIODIC_X, SIM_PERIODIC_Y, SIM_PERIODIC_Z; scene domain.periodic). A periodic axis has
 // floor(extent / h) >= 3 cells, the last one taking the remainder, so the cells tile the period.
 // Every pair distance goes through sphDelta() (minimum image), and a neighbour row of a particle in the
 // first or last x column also has the cell on the other side of the seam (sphRowWrap()). Without
@@ -105,6 +112,10 @@ vec3 sphDelta(vec3 xi, vec3 xj) {
 #if defined(SIM_PERIODIC_X)
   float lx = simDomainMax.x - simDomainMin.x;
   d.x -= lx * round(d.x / lx);
+#endif
+#if defined(SIM_PERIODIC_Y)
+  float ly = simDomainMax.y - simDomainMin.y;
+  d.y -= ly * round(d.y / ly);
 #endif
 #if defined(SIM_PERIODIC_Z)
   float lz = simDomainMax.z - simDomainMin.z;
@@ -131,7 +142,7 @@ bool sphRowWrap(ivec3 cell, int dy, int dz, out uint first, out uint last) {
 }
 #endif
 
-#if defined(SIM_PERIODIC_X) || defined(SIM_PERIODIC_Z)
+#if defined(SIM_PERIODIC_X) || defined(SIM_PERIODIC_Y) || defined(SIM_PERIODIC_Z)
 float sphWrapAxis(float x, float lo, float hi) {
   float x2 = x - (hi - lo) * floor((x - lo) / (hi - lo));
   // Rounding may land exactly on hi; NaN stays NaN for the health check.
@@ -142,6 +153,9 @@ float sphWrapAxis(float x, float lo, float hi) {
 vec3 sphWrapPosition(vec3 x) {
 #if defined(SIM_PERIODIC_X)
   x.x = sphWrapAxis(x.x, simDomainMin.x, simDomainMax.x);
+#endif
+#if defined(SIM_PERIODIC_Y)
+  x.y = sphWrapAxis(x.y, simDomainMin.y, simDomainMax.y);
 #endif
 #if defined(SIM_PERIODIC_Z)
   x.z = sphWrapAxis(x.z, simDomainMin.z, simDomainMax.z);

@@ -3,8 +3,9 @@
 # results.csv (the quick study's): wall = particles x steps / throughput(particles) + 0.5 s start-up,
 # throughput interpolated (log of particles) between the measured runs; steps = simulated time / dt
 # with dt from the CFL (WCSPH: cfl h / (c + v); DFSPH: cfl spacing / v), viscous and dt_max limits
-# (flow speed v: 4 m/s dam break, 0.5 m/s hydrostatic, 3 mm/s Poiseuille) or the fixed dt; a DFSPH step
-# counted as DFSPH_STEP_COST WCSPH steps (measured on the dam break, docs/validation.md).
+# (flow speed v: 4 m/s dam break, 0.5 m/s hydrostatic, 3 mm/s Poiseuille, 0.1 m/s Taylor-Green) or
+# the fixed dt; a DFSPH step counted as DFSPH_STEP_COST WCSPH steps (measured on the dam break,
+# docs/validation.md).
 # Runs that stop early on a health check (fixed dt above the stable one) make the real study shorter.
 # Usage: python3 studies/estimate_runtime.py studies/full.json docs/quick-study/results.csv
 import json, math, itertools, sys, csv
@@ -38,7 +39,7 @@ for c in study['cases']:
         fps = sc['time']['fps']; T = (sc['time']['end_frame'] - sc['time']['start_frame']) / fps
         h = 2 * s
         c0 = float(p.get('solver.speed_of_sound', sc['solver'].get('speed_of_sound', 30)))
-        vmax = {'dam_break': 4.0, 'hydrostatic': 0.5, 'poiseuille': 0.003}[c['validation']]
+        vmax = {'dam_break': 4.0, 'hydrostatic': 0.5, 'poiseuille': 0.003, 'taylor_green': 0.1}[c['validation']]
         dfsph = p.get('solver.method') == 'dfsph'
         fixed = p.get('time.dt_mode') == 'fixed'
         if fixed: dt = float(p['time.dt'])

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <numbers>
 #include <sstream>
 
 #include "sphfx/core/error.h"
@@ -72,11 +73,12 @@ std::shared_ptr<const Object<Domain>> domainSchema() {
               "Upper corner of the domain box (solid walls).")
         .choiceList(
             "periodic", &Domain::periodic, std::vector<PeriodicAxis>{},
-            {{"x", PeriodicAxis::X}, {"z", PeriodicAxis::Z}},
+            {{"x", PeriodicAxis::X}, {"y", PeriodicAxis::Y}, {"z", PeriodicAxis::Z}},
             "Axes along which the domain wraps around (periodic boundaries): no walls on those faces, "
             "particles leaving through max re-enter at min. WCSPH only, no colliders; each periodic "
             "extent must be at least 3 kernel radii, and a fluid block spanning it must hold a whole "
-            "number of lattice spacings (no gap or overlap at the seam).")
+            "number of lattice spacings (no gap or overlap at the seam). A periodic y needs gravity's "
+            "y component 0 (with no floor the fluid would fall forever).")
         .choiceList("open", &Domain::open, std::vector<DomainFace>{},
                     {{"x-", DomainFace::XMin},
                      {"x+", DomainFace::XMax},
@@ -96,6 +98,13 @@ std::shared_ptr<const Object<Domain>> domainSchema() {
   });
 }
 
+std::shared_ptr<const Object<TaylorGreenVortex>> taylorGreenSchema() {
+  return makeSchema<TaylorGreenVortex>([](Object<TaylorGreenVortex>& o) {
+    o.number("amplitude", &TaylorGreenVortex::amplitude, 0.01, "m/s", Range{0, 1e4, true, false},
+             "Velocity amplitude U of the vortex at the first frame.");
+  });
+}
+
 std::shared_ptr<const Object<FluidBlock>> fluidBlockSchema() {
   return makeSchema<FluidBlock>([](Object<FluidBlock>& o) {
     o.choice("shape", &FluidBlock::shape, Shape::Box, kShapes, "Shape of the block.")
@@ -109,6 +118,10 @@ std::shared_ptr<const Object<FluidBlock>> fluidBlockSchema() {
         .onlyWhen(isSphere<FluidBlock>, "sphere")
         .vec3("velocity", &FluidBlock::velocity, {0, 0, 0}, "m/s", Range::closed(-1e4, 1e4),
               "Initial velocity of the block's particles.")
+        .optionalChild("taylor_green", &FluidBlock::taylorGreen, taylorGreenSchema(),
+                       "A Taylor-Green vortex in the x-z plane added to velocity: u = U sin(2 pi x / Lx) "
+                       "cos(2 pi z / Lz), w = -U (Lz / Lx) cos(2 pi x / Lx) sin(2 pi z / Lz), x and z from "
+                       "domain.min, one wavelength per period (needs domain.periodic x and z).")
         .check(checkShape<FluidBlock>);
   });
 }
@@ -585,6 +598,11 @@ void checkSceneGeometry(const Scene& s, const Json&, const std::string&) {
 
 /// Periodic axes: what the solvers and the seam need (see the "periodic" description).
 void checkPeriodic(const Scene& s, const Json&, const std::string&) {
+  for (size_t i = 0; i < s.fluid.blocks.size(); ++i)
+    if (s.fluid.blocks[i].taylorGreen && !(s.domain.isPeriodic(0) && s.domain.isPeriodic(2)))
+      throw SchemaError(fmt::format("/fluid/blocks/{}/taylor_green", i),
+                        "a Taylor-Green vortex needs domain.periodic to hold \"x\" and \"z\" (its "
+                        "wavelengths are the periods)");
   if (!s.domain.anyPeriodic()) return;
   if (s.solver.method == Solver::DFSPH)
     throw SchemaError("/domain/periodic",
@@ -594,10 +612,14 @@ void checkPeriodic(const Scene& s, const Json&, const std::string&) {
     throw SchemaError("/colliders",
                       "colliders are not supported in a periodic domain yet (domain.periodic "
                       "is set); remove the colliders or domain.periodic");
+  if (s.domain.isPeriodic(1) && s.gravity[1] != 0)
+    throw SchemaError("/gravity", fmt::format("a periodic y axis needs gravity's y component 0, got {} m/s^2 "
+                                              "(with no floor the fluid would fall forever)",
+                                              s.gravity[1]));
   const double h = s.kernelRadius(), lattice = s.fluid.spacing * s.fluid.packing;
-  for (int a : {0, 2}) {
+  for (int a : {0, 1, 2}) {
     if (!s.domain.isPeriodic(a)) continue;
-    const std::string axis = a == 0 ? "x" : "z";
+    const std::string axis(1, "xyz"[a]);
     const double extent = s.domain.max[a] - s.domain.min[a];
     // The neighbour rows visit the cells either side of a particle's cell; with fewer than 3 cells of
     // size h the two sides would be the same cell across the seam.
@@ -737,8 +759,16 @@ int periodicCells(double extent, double kernelRadius) {
 }
 
 bool Domain::isPeriodic(int axis) const {
-  const PeriodicAxis want = axis == 0 ? PeriodicAxis::X : PeriodicAxis::Z;
-  return axis != 1 && std::find(periodic.begin(), periodic.end(), want) != periodic.end();
+  if (axis < 0 || axis > 2) return false;
+  const PeriodicAxis want = std::array{PeriodicAxis::X, PeriodicAxis::Y, PeriodicAxis::Z}[size_t(axis)];
+  return std::find(periodic.begin(), periodic.end(), want) != periodic.end();
+}
+
+Vec3d taylorGreenVelocity(const Domain& d, double U, const Vec3d& p) {
+  const double lx = d.max[0] - d.min[0], lz = d.max[2] - d.min[2];
+  const double ax = 2 * std::numbers::pi * (p[0] - d.min[0]) / lx,
+               az = 2 * std::numbers::pi * (p[2] - d.min[2]) / lz;
+  return {U * std::sin(ax) * std::cos(az), 0.0, -U * (lz / lx) * std::cos(ax) * std::sin(az)};
 }
 
 bool Scene::hasCacheAttribute(CacheAttribute a) const {
@@ -837,7 +867,12 @@ SeededParticles seedParticles(const Scene& scene) {
   out.velocity.reserve(n);
   forEachSeed(scene, [&](const Vec3d& p, const FluidBlock& b) {
     out.position.push_back({float(p[0]), float(p[1]), float(p[2])});
-    out.velocity.push_back({float(b.velocity[0]), float(b.velocity[1]), float(b.velocity[2])});
+    Vec3d v = b.velocity;
+    if (b.taylorGreen) {
+      const Vec3d vortex = taylorGreenVelocity(scene.domain, b.taylorGreen->amplitude, p);
+      for (int a = 0; a < 3; ++a) v[a] += vortex[a];
+    }
+    out.velocity.push_back({float(v[0]), float(v[1]), float(v[2])});
   });
   return out;
 }

@@ -4,9 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
-#include <map>
 #include <limits>
+#include <map>
+#include <numbers>
 
 #include "gpu_layouts.h"
 #include "render_shaders.h"
@@ -44,13 +44,17 @@ TriangleMesh makeUvSphere(const Vec3d& center, double radius, int stacks, int sl
 TriangleMesh withCreaseNormals(const TriangleMesh& m, double creaseDegrees) {
   std::map<std::array<float, 3>, uint32_t> weld;
   std::vector<uint32_t> id(m.positions.size());
-  for (size_t i = 0; i < m.positions.size(); ++i) id[i] = weld.emplace(m.positions[i], uint32_t(weld.size())).first->second;
+  for (size_t i = 0; i < m.positions.size(); ++i)
+    id[i] = weld.emplace(m.positions[i], uint32_t(weld.size())).first->second;
   std::vector<std::array<double, 3>> faceNormal(m.triangles.size());  // area-weighted
   std::vector<std::vector<uint32_t>> around(weld.size());
   for (size_t t = 0; t < m.triangles.size(); ++t) {
-    const auto &a = m.positions[m.triangles[t][0]], &b = m.positions[m.triangles[t][1]], &c = m.positions[m.triangles[t][2]];
-    const double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-    faceNormal[t] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+    const auto &a = m.positions[m.triangles[t][0]], &b = m.positions[m.triangles[t][1]],
+               &c = m.positions[m.triangles[t][2]];
+    const double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]},
+                 e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    faceNormal[t] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                     e1[0] * e2[1] - e1[1] * e2[0]};
     for (uint32_t v : m.triangles[t]) around[id[v]].push_back(uint32_t(t));
   }
   auto unit = [](std::array<double, 3> n) {

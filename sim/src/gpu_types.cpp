@@ -150,6 +150,7 @@ ShaderDefines simShaderDefines(const Scene& scene) {
   if (anyColliderRotates(scene)) d.set("SIM_COLLIDER_ROTATION");
   if (scene.solver.method == Solver::DFSPH) d.set("SOLVER_DFSPH");
   if (scene.domain.isPeriodic(0)) d.set("SIM_PERIODIC_X");
+  if (scene.domain.isPeriodic(1)) d.set("SIM_PERIODIC_Y");
   if (scene.domain.isPeriodic(2)) d.set("SIM_PERIODIC_Z");
   if (const int split = gridSplitX(scene); split > 1) d.set("SIM_GRID_SPLIT_X", split);  // sphRow()
   if (scene.changesParticleCount()) {

@@ -133,8 +133,8 @@ SimParams makeSimParams(const Scene& scene, uint32_t particles, uint32_t boundar
 constexpr int kSimWorkGroup = 64;
 
 /// Shader variant switches of a scene: EOS, viscosity model, colliders, periodic axes (SIM_PERIODIC_X,
-/// SIM_PERIODIC_Z), a varying particle count (SIM_DYNAMIC_COUNT; HAS_EMITTERS, SIM_OPEN_FACES bits,
-/// SIM_KILL_BOXES count). Leaves out what the scene does not use.
+/// SIM_PERIODIC_Y, SIM_PERIODIC_Z), a varying particle count (SIM_DYNAMIC_COUNT; HAS_EMITTERS,
+/// SIM_OPEN_FACES bits, SIM_KILL_BOXES count). Leaves out what the scene does not use.
 ShaderDefines simShaderDefines(const Scene& scene);
 
 /// Every C++-mirrored block of the simulation stage, for the layout tests.

@@ -99,6 +99,40 @@ std::map<std::string, double> measurePoiseuille(const Scene& scene,
   return metrics;
 }
 
+/// Taylor-Green vortex: the amplitude of the mode (taylorGreenModeAmplitude()) in each frame against
+/// U0 exp(-nu (kx^2 + kz^2) t), U0 the scene's amplitude (the first block with a vortex). The decay rate
+/// is the least-squares slope of log U over the frames (those where the mode has reversed, U <= 0, left
+/// out of the fit; the amplitude errors count them).
+std::map<std::string, double> measureTaylorGreen(const Scene& scene,
+                                                 const std::vector<ParticleFrame>& frames) {
+  double U0 = 0;
+  for (const FluidBlock& b : scene.fluid.blocks)
+    if (b.taylorGreen && U0 == 0) U0 = b.taylorGreen->amplitude;
+  if (U0 == 0) throw InputError("taylor_green validation: no fluid block has a taylor_green vortex");
+  const Domain& d = scene.domain;
+  const double lx = d.max[0] - d.min[0], lz = d.max[2] - d.min[2], nu = scene.fluid.viscosity;
+  const double rate = nu * 4 * M_PI * M_PI * (1 / (lx * lx) + 1 / (lz * lz));
+  double sum = 0, last = 0, st = 0, sy = 0, stt = 0, sty = 0;
+  int n = 0, fitted = 0;
+  for (const ParticleFrame& f : frames) {
+    const double U = taylorGreenModeAmplitude(f, d.min[0], d.min[2], lx, lz);
+    if (U > 0) {
+      const double y = std::log(U);
+      st += f.time, sy += y, stt += f.time * f.time, sty += f.time * y;
+      ++fitted;
+    }
+    if (f.time <= 0) continue;
+    last = std::fabs(U / taylorGreenAmplitude(U0, f.time, lx, lz, nu) - 1);
+    sum += last * last;
+    ++n;
+  }
+  const double denom = fitted * stt - st * st;
+  const double fittedRate = fitted >= 2 && denom > 0 ? -(fitted * sty - st * sy) / denom : 0;
+  return {{"amplitude_rms", n ? std::sqrt(sum / n) : 0},
+          {"amplitude_final", last},
+          {"decay_rate_error", std::fabs(fittedRate / rate - 1)}};
+}
+
 }  // namespace
 
 std::string primaryMetric(Validation v) {
@@ -109,6 +143,8 @@ std::string primaryMetric(Validation v) {
       return "pressure_l2";
     case Validation::Poiseuille:
       return "profile_l2_mean";
+    case Validation::TaylorGreen:
+      return "decay_rate_error";
   }
   return "";
 }
@@ -127,6 +163,9 @@ std::map<std::string, double> measureShot(Validation validation, const std::stri
       break;
     case Validation::Poiseuille:
       metrics = measurePoiseuille(scene, frames);
+      break;
+    case Validation::TaylorGreen:
+      metrics = measureTaylorGreen(scene, frames);
       break;
   }
   // Energy drift over the run, for every validation: how far total energy moved, relative to its start.

@@ -85,6 +85,17 @@ double poiseuilleProfileError(const ParticleFrame& f, double L, double F, double
   return den > 0 ? std::sqrt(num / den) : 0;
 }
 
+double taylorGreenModeAmplitude(const ParticleFrame& f, double x0, double z0, double lx, double lz) {
+  double num = 0, den = 0;
+  for (size_t i = 0; i < f.size(); ++i) {
+    const double ax = 2 * M_PI * (f.position[i][0] - x0) / lx, az = 2 * M_PI * (f.position[i][2] - z0) / lz;
+    const double bu = std::sin(ax) * std::cos(az), bw = -(lz / lx) * std::cos(ax) * std::sin(az);
+    num += f.velocity[i][0] * bu + f.velocity[i][2] * bw;
+    den += bu * bu + bw * bw;
+  }
+  return den > 0 ? num / den : 0;
+}
+
 double kineticEnergy(const ParticleFrame& f, double m) {
   double e = 0;
   for (const auto& v : f.velocity)

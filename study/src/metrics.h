@@ -54,6 +54,13 @@ HydrostaticError hydrostaticError(const ParticleFrame& frame, double restDensity
 double poiseuilleProfileError(const ParticleFrame& frame, double plateDistance, double bodyForce,
                               double viscosity, int bins);
 
+/// Amplitude U of the Taylor-Green mode (references.h, taylorGreenAmplitude()) in a frame: the least-
+/// squares fit of the particles' (u, w) onto (sin(kx x) cos(kz z), -(kx / kz) cos(kx x) sin(kz z)),
+/// x and z measured from (x0, z0), over all particles. Velocity in other modes (the start's acoustic
+/// waves, which are at 2 k) is orthogonal to it and does not count.
+double taylorGreenModeAmplitude(const ParticleFrame& frame, double x0, double z0, double periodX,
+                                double periodZ);
+
 /// Kinetic energy sum m |v|^2 / 2 and potential energy sum m g y (J), for energy-drift reports.
 double kineticEnergy(const ParticleFrame& frame, double particleMass);
 double potentialEnergy(const ParticleFrame& frame, double particleMass, double gravity);

@@ -69,6 +69,11 @@ double hydrostaticPressure(double restDensity, double gravity, double surfaceHei
   return y >= surfaceHeight ? 0.0 : restDensity * gravity * (surfaceHeight - y);
 }
 
+double taylorGreenAmplitude(double U0, double t, double lx, double lz, double nu) {
+  const double kx = 2 * M_PI / lx, kz = 2 * M_PI / lz;
+  return U0 * std::exp(-nu * (kx * kx + kz * kz) * t);
+}
+
 double poiseuilleVelocity(double y, double t, double L, double F, double nu) {
   const double steady = F / (2 * nu) * y * (L - y);
   const double scale = F * L * L / (8 * nu);  // the steady maximum, at y = L/2

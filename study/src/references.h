@@ -2,7 +2,8 @@
 /// @file references.h
 /// @brief Independent reference solutions the simulator is measured against: published experimental
 /// data (Martin & Moyce 1952 dam break) and analytic solutions (hydrostatic pressure, transient plane
-/// Poiseuille flow after Morris, Fox & Zhu 1997).
+/// Poiseuille flow after Morris, Fox & Zhu 1997, the decaying Taylor-Green vortex after Taylor & Green
+/// 1937).
 
 #include <string>
 #include <vector>
@@ -54,5 +55,11 @@ double hydrostaticPressure(double restDensity, double gravity, double surfaceHei
 ///   L^2)
 /// summed until terms fall below 1e-12 of the steady maximum.
 double poiseuilleVelocity(double y, double t, double plateDistance, double bodyForce, double viscosity);
+
+/// Amplitude at time t of the 2D Taylor-Green vortex u = U sin(kx x) cos(kz z), w = -U (kx / kz)
+/// cos(kx x) sin(kz z) with kx = 2 pi / Lx, kz = 2 pi / Lz, an exact solution of the incompressible
+/// Navier-Stokes equations (the non-linear term is a pure gradient, balanced by the pressure; Taylor &
+/// Green 1937): U(t) = U0 exp(-nu (kx^2 + kz^2) t), i.e. U0 exp(-8 pi^2 nu t / L^2) for Lx = Lz = L.
+double taylorGreenAmplitude(double amplitude0, double t, double periodX, double periodZ, double viscosity);
 
 }  // namespace sphfx::study

@@ -33,7 +33,8 @@ std::shared_ptr<const Object<StudyCase>> caseSchema() {
         .choice("validation", &StudyCase::validation, Validation::DamBreak,
                 {{"dam_break", Validation::DamBreak},
                  {"hydrostatic", Validation::Hydrostatic},
-                 {"poiseuille", Validation::Poiseuille}},
+                 {"poiseuille", Validation::Poiseuille},
+                 {"taylor_green", Validation::TaylorGreen}},
                 "Reference the runs are measured against.")
         .textList("set", &StudyCase::set, "Overrides for every run (path=value, as --set).")
         .list("axes", &StudyCase::axes, axisSchema(), 0, 8,

@@ -73,6 +73,7 @@ const std::map<std::string, Constant>& blockBindings() {
       {"SimBoundaryStart", SPHFX_CONSTANT(SPHFX_SSBO_SIM_BOUNDARY_CELL_START)},
       {"SimColliders", SPHFX_CONSTANT(SPHFX_SSBO_SIM_COLLIDERS)},
       {"SimColliderKeys", SPHFX_CONSTANT(SPHFX_SSBO_SIM_COLLIDER_KEYS)},
+      {"SimColliderField", SPHFX_CONSTANT(SPHFX_SSBO_SIM_COLLIDER_FIELD)},
       {"SimBoundaryRest", SPHFX_CONSTANT(SPHFX_SSBO_SIM_BOUNDARY_REST)},
       {"SimBoundaryBody", SPHFX_CONSTANT(SPHFX_SSBO_SIM_BOUNDARY_BODY)},
       {"SimDispatch", SPHFX_CONSTANT(SPHFX_SSBO_SIM_DISPATCH)},

@@ -107,7 +107,9 @@ TEST(Emitters, MassFlowIsRestDensityTimesSpeedTimesArea) {
       largest = std::max(largest, id);
     }
     for (const auto& [id, pv] : after)
-      if (!before.count(id)) EXPECT_GT(id, largest);
+      if (!before.count(id)) {
+        EXPECT_GT(id, largest);
+      }
     EXPECT_EQ(after.rbegin()->first, int32_t(b.size()) - 1) << "ids 0 .. n-1 without removal";
   }
 }
@@ -194,7 +196,9 @@ TEST(Emitters, DeterministicAndResumableWithVaryingCounts) {
     EXPECT_TRUE(x == bytes(particleCachePath(c, f))) << "frame " << f << ": the resumed run differs";
     const ParticleFrame p = readParticleCache(particleCachePath(a, f));
     std::printf(" %zu", p.size());
-    if (f <= 2) EXPECT_EQ(p.size(), 0u);
+    if (f <= 2) {
+      EXPECT_EQ(p.size(), 0u);
+    }
     byId(p);
   }
   std::printf("\n");

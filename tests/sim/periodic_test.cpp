@@ -114,6 +114,18 @@ TEST(Periodic, NeighbourSetsAcrossTheSeamsMatchBruteForce) {
   ASSERT_EQ(sim::gridSplitX(zOnly), 4);
   ASSERT_EQ(sim::gridSplitX(both), 1);
   expectNeighboursMatchBruteForce(zOnly, seamItems(zOnly, 2000, 13));
+  // Periodic in y (no gravity): rows wrap in y as in z, with the slabs in x (split 4) and with every
+  // axis wrapped (no walls at all; the y period 3 cells, the last wider: 0.13 / 0.04).
+  const Scene yOnly = test::sceneFromJson(
+      R"({"domain": {"min": [0,0,0], "max": [0.3,0.14,0.2], "periodic": ["y"]}, "gravity": [0,0,0],
+          "fluid": {"spacing": 0.02, "blocks": [{"min": [0,0,0], "max": [0.1,0.14,0.1]}]}})");
+  ASSERT_EQ(sim::gridSplitX(yOnly), 4);
+  expectNeighboursMatchBruteForce(yOnly, seamItems(yOnly, 2000, 17));
+  const Scene all = test::sceneFromJson(
+      R"({"domain": {"min": [0,-0.05,0], "max": [0.16,0.08,0.12], "periodic": ["x", "y", "z"]},
+          "gravity": [0,0,0], "fluid": {"spacing": 0.02, "blocks": [{"min": [0,0,0], "max": [0.16,0.04,0.12]}]}})");
+  ASSERT_EQ(sim::gridDims(all)[1], 3);
+  expectNeighboursMatchBruteForce(all, seamItems(all, 800, 19));  // a small box: <= 400 neighbours each
 }
 
 TEST(Periodic, WallSamplesOnlyOnTheNonPeriodicFaces) {

@@ -34,6 +34,12 @@ TEST(CommittedReports, QuickStudyMatchesTheShippedStudy) {
       << "stale: run build/cli/sphfx study studies/quick.json -o docs/quick-study";
 }
 
+TEST(CommittedReports, TaylorGreenStudyMatchesTheShippedStudy) {
+  const std::string now = studyInputsDigest(loadStudy(kDir + "/studies/taylor_green.json"));
+  EXPECT_EQ(committedDigest("docs/taylor-green-study/report.md"), now)
+      << "stale: run build/cli/sphfx study studies/taylor_green.json -o docs/taylor-green-study";
+}
+
 TEST(CommittedReports, StabilityReportsMatchTheShippedSuite) {
   const StabilitySuite suite = loadStabilitySuite(kDir + "/studies/stability.json");
   EXPECT_EQ(committedDigest("docs/stability-quick/stability.md"), stabilityInputsDigest(suite, true))

@@ -5,6 +5,7 @@
 
 #include "metrics.h"
 #include "sphfx/core/error.h"
+#include "sphfx/core/scene.h"
 
 using namespace sphfx;
 using namespace sphfx::study;
@@ -93,4 +94,23 @@ TEST(Metrics, ParetoFront) {
   // (cost, error): 0 and 2 and 3 are optimal; 1 is beaten by 0; 4 ties 3 on error but costs more.
   const std::vector<std::pair<double, double>> pts = {{1, 5}, {2, 6}, {3, 2}, {10, 1}, {11, 1}};
   EXPECT_EQ(paretoFront(pts), (std::vector<size_t>{0, 2, 3}));
+}
+
+TEST(Metrics, TaylorGreenModeAmplitudeIgnoresOtherModes) {
+  // A lattice filling a 0.2 x 0.1 (x, z) period from (0.05, 0.02): the seeded vortex of amplitude U plus a
+  // uniform drift and a compressive 2k wave (the start's acoustic transient) fits back to U.
+  sphfx::Domain d;
+  d.min = {0.05, 0, 0.02};
+  d.max = {0.25, 0.04, 0.12};
+  ParticleFrame f = lattice(40, 4, 20, 0.005);
+  const double U = 0.003;
+  for (size_t i = 0; i < f.size(); ++i) {
+    auto& p = f.position[i];
+    p[0] += float(d.min[0]);
+    p[2] += float(d.min[2]);
+    const auto v = sphfx::taylorGreenVelocity(d, U, {p[0], p[1], p[2]});
+    const double wave = 0.002 * std::sin(4 * M_PI * (p[0] - d.min[0]) / 0.2);
+    f.velocity[i] = {float(v[0] + 0.01 + wave), float(v[1]), float(v[2] - 0.004)};
+  }
+  EXPECT_NEAR(taylorGreenModeAmplitude(f, d.min[0], d.min[2], 0.2, 0.1), U, 1e-4 * U);  // float state
 }

@@ -3,9 +3,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <utility>
 
 #include "references.h"
 #include "sphfx/core/error.h"
+#include "sphfx/core/scene.h"
 
 using namespace sphfx::study;
 
@@ -50,4 +52,27 @@ TEST(References, MalformedTableIsAnInputError) {
   EXPECT_THROW(Table({1, 2}, {1}), sphfx::InputError);
   EXPECT_THROW(Table({2, 1}, {1, 1}), sphfx::InputError);
   EXPECT_THROW(Table::readCsv("/nonexistent.csv"), sphfx::IoError);
+}
+
+TEST(References, TaylorGreenDecaysAtNuK2AndTheSeededFieldIsItsMode) {
+  const double U0 = 0.01, nu = 1e-3, L = 0.1;
+  EXPECT_DOUBLE_EQ(taylorGreenAmplitude(U0, 0, L, L, nu), U0);
+  EXPECT_NEAR(taylorGreenAmplitude(U0, L * L / (8 * M_PI * M_PI * nu), L, L, nu), U0 / M_E, 1e-15);
+  // The seeded field (scene.h, taylorGreenVelocity) in an Lx != Lz box: divergence-free, and
+  // lap u = -(kx^2 + kz^2) u, so the viscous term decays it at the reference's rate.
+  sphfx::Domain d;
+  d.min = {-0.05, 0, 0.02};
+  d.max = {0.15, 0.06, 0.12};
+  const double lx = 0.2, lz = 0.1, k2 = 4 * M_PI * M_PI * (1 / (lx * lx) + 1 / (lz * lz)), e = 1e-5;
+  auto v = [&](double x, double z) { return sphfx::taylorGreenVelocity(d, U0, {x, 0.03, z}); };
+  for (const auto& [x, z] : {std::pair{0.013, 0.047}, std::pair{0.1, 0.09}}) {
+    const double div = (v(x + e, z)[0] - v(x - e, z)[0] + v(x, z + e)[2] - v(x, z - e)[2]) / (2 * e);
+    EXPECT_NEAR(div, 0, 1e-6 * U0 / e);
+    for (int a : {0, 2}) {
+      const double lap =
+          (v(x + e, z)[a] + v(x - e, z)[a] + v(x, z + e)[a] + v(x, z - e)[a] - 4 * v(x, z)[a]) / (e * e);
+      EXPECT_NEAR(lap, -k2 * v(x, z)[a], 1e-3 * k2 * U0) << a;
+    }
+    EXPECT_EQ(v(x, z)[1], 0);
+  }
 }

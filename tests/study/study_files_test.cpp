@@ -38,6 +38,10 @@ Census census(const std::string& file) {
       c.stepControls.insert(std::string(scene.solver.method == Solver::WCSPH ? "wcsph " : "dfsph ") +
                             (scene.time.mode == TimeStepMode::Cfl ? "cfl" : "fixed"));
       if (scene.solver.method == Solver::WCSPH) values["c"].insert(std::to_string(scene.solver.speedOfSound));
+      if (sc.validation == Validation::TaylorGreen) {
+        for (int a = 0; a < 3; ++a) EXPECT_TRUE(scene.domain.isPeriodic(a)) << sc.name;
+        EXPECT_EQ(scene.fluid.viscosityModel, ViscosityModel::Laplacian) << sc.name;
+      }
       if (sc.validation == Validation::Poiseuille) {
         EXPECT_TRUE(scene.domain.isPeriodic(0)) << sc.name;
         EXPECT_EQ(scene.fluid.viscosityModel, ViscosityModel::Laplacian) << sc.name;
@@ -54,12 +58,14 @@ Census census(const std::string& file) {
 TEST(StudyFiles, FullGridCoversSolversSpacingsStepControlAndSoundSpeed) {
   const Census c = census("full.json");
   std::printf("studies/full.json: %zu runs\n", c.runs);
-  for (Validation v : {Validation::DamBreak, Validation::Hydrostatic, Validation::Poiseuille})
+  for (Validation v :
+       {Validation::DamBreak, Validation::Hydrostatic, Validation::Poiseuille, Validation::TaylorGreen})
     EXPECT_GT(c.runsBySolver.count({v, Solver::WCSPH}), 0u) << int(v);
   EXPECT_GT(c.runsBySolver.count({Validation::DamBreak, Solver::DFSPH}), 0u);
   EXPECT_GT(c.runsBySolver.count({Validation::Hydrostatic, Solver::DFSPH}), 0u);
   // Periodic boundaries are WCSPH only for now (the scene loader would reject the runs anyway).
   EXPECT_EQ(c.runsBySolver.count({Validation::Poiseuille, Solver::DFSPH}), 0u);
+  EXPECT_EQ(c.runsBySolver.count({Validation::TaylorGreen, Solver::DFSPH}), 0u);
   for (const auto& [name, spacings] : c.spacingsByCase) EXPECT_GE(spacings.size(), 3u) << name;
   EXPECT_EQ(c.stepControls, (std::set<std::string>{"wcsph cfl", "wcsph fixed", "dfsph cfl", "dfsph fixed"}));
   EXPECT_TRUE(c.soundSpeedVaries);

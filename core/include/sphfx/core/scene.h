@@ -30,7 +30,7 @@ enum class RenderSource { Surface, Particles };
 enum class ColorBy { Height, Speed };
 enum class ImageFormat { Png, Exr };
 /// Axes along which the domain may wrap around (periodic boundaries).
-enum class PeriodicAxis { X, Z };
+enum class PeriodicAxis { X, Y, Z };
 /// Faces of the domain box; an open face has no wall and removes the particles that leave through it.
 enum class DomainFace { XMin, XMax, YMin, YMax, ZMin, ZMax };
 /// Shapes of an emitter (a nozzle that adds particles while it is active).
@@ -42,11 +42,17 @@ struct Domain {
   Vec3d max{};
   std::vector<PeriodicAxis> periodic;  ///< wrapped axes: no walls there, [min, max) repeats
   std::vector<DomainFace> open;        ///< faces without walls: particles leaving through them are removed
-  /// True if axis 0 (x) or 2 (z) wraps around; y never does.
+  /// True if axis 0 (x), 1 (y) or 2 (z) wraps around.
   bool isPeriodic(int axis) const;
   bool anyPeriodic() const { return !periodic.empty(); }
   /// True if the face of `axis` on `side` (0: min, 1: max) is open.
   bool isOpen(int axis, int side) const;
+};
+
+/// A Taylor-Green vortex in a fluid block's initial velocity (fluid.blocks[].taylor_green; the field is
+/// taylorGreenVelocity()).
+struct TaylorGreenVortex {
+  double amplitude = 0;  ///< U0 (m/s)
 };
 
 /// A block of fluid present at the first frame.
@@ -56,8 +62,15 @@ struct FluidBlock {
   Vec3d max{};     ///< box only
   Vec3d center{};  ///< sphere only
   double radius = 0;
-  Vec3d velocity{};  ///< initial velocity of every particle in the block
+  Vec3d velocity{};                              ///< initial velocity of every particle in the block
+  std::optional<TaylorGreenVortex> taylorGreen;  ///< added to `velocity` where set
 };
+
+/// The Taylor-Green vortex of amplitude U in the x-z plane of a domain periodic in x and z, one
+/// wavelength per period (kx = 2 pi / Lx, kz = 2 pi / Lz, phases from domain.min):
+///   u = U sin(kx x) cos(kz z), v = 0, w = -U (kx / kz) cos(kx x) sin(kz z),
+/// divergence-free; under viscosity nu it decays as exp(-nu (kx^2 + kz^2) t) (Taylor & Green 1937).
+Vec3d taylorGreenVelocity(const Domain& domain, double amplitude, const Vec3d& position);
 
 struct Fluid {
   double spacing = 0;  ///< rest particle spacing (m); sets the resolution and the particle mass

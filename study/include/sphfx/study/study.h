@@ -20,7 +20,7 @@ namespace sphfx::study {
 
 using schema::Json;
 
-enum class Validation { DamBreak, Hydrostatic, Poiseuille };
+enum class Validation { DamBreak, Hydrostatic, Poiseuille, TaylorGreen };
 
 /// One parameter axis of the grid: a scene path (as for --set) and the values it takes.
 struct Axis {
