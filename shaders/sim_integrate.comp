@@ -9,6 +9,24 @@
 #if defined(SIM_PERIODIC_X) || defined(SIM_PERIODIC_Y) || defined(SIM_PERIODIC_Z)
 #include "sph_kernels.glsl"
 #endif
+#if defined(HAS_VOLUME_SOURCES)
+#include "sph_emitters.glsl"
+// Inside an active volume source (box or sphere emitter) the fluid moves at the source's velocity, as a
+// TD's "source velocity": the volume stays an ordered block the emit pass refills, instead of a region
+// where new particles are placed among ones that pressure has pushed about.
+vec3 sphSourceVelocity(vec3 x, vec3 v) {
+  for (uint e = 0u; e < emitters.length(); ++e) {
+    Emitter em = emitters[e];
+    if (em.info.w != 1u || stateTime < em.time.x ||
+        stateTime >= em.time.x + double(em.info.z) * em.time.y)
+      continue;
+    bool inside = em.regionB.w == 1.0 ? all(greaterThanEqual(x, em.regionA.xyz)) && all(lessThan(x, em.regionB.xyz))
+                                      : distance(x, em.regionA.xyz) < em.regionA.w;
+    if (inside) return em.dirSpeed.w * em.dirSpeed.xyz;
+  }
+  return v;
+}
+#endif
 layout(local_size_x = SIM_WG) in;
 layout(std430, binding = SPHFX_SSBO_SIM_POS) readonly buffer SimPos { vec4 pos[]; };
 layout(std430, binding = SPHFX_SSBO_SIM_VEL) readonly buffer SimVel { vec4 vel[]; };
@@ -29,6 +47,9 @@ void main() {
   if (i >= simCounts.x) return;
   float dt = stateDt;
   vec3 v = vel[i].xyz + dt * accel[i].xyz;
+#if defined(HAS_VOLUME_SOURCES)
+  v = sphSourceVelocity(pos[i].xyz, v);
+#endif
   vec3 x = pos[i].xyz + dt * v;
   vec3 lo = simDomainMin.xyz + simViscosity.z, hi = simDomainMax.xyz - simViscosity.z;
   for (int k = 0; k < 3; ++k) {

@@ -2,7 +2,9 @@
 struct Emitter {
   dvec2 time;     // start (s), layer period tau = spacing / speed (s)
   vec4 dirSpeed;  // xyz: unit direction, w: speed (m/s)
-  uvec4 info;     // x: points per layer, y: first point, z: layers in all
+  uvec4 info;     // x: points per layer, y: first point, z: layers in all, w: 1 for a volume source
+  vec4 regionA;   // volume source: box min, or sphere centre with w = radius
+  vec4 regionB;   // volume source: box max; w: 1 box, 2 sphere (0: a disc)
 };
 layout(std430, binding = SPHFX_SSBO_SIM_EMITTERS) readonly buffer SimEmitters { Emitter emitters[]; };
 

@@ -393,13 +393,23 @@ std::shared_ptr<const Object<Collider>> colliderSchema() {
 std::shared_ptr<const Object<Emitter>> emitterSchema() {
   return makeSchema<Emitter>([](Object<Emitter>& o) {
     o.text("name", &Emitter::name, "", "Name shown in errors and logs.")
-        .choice("shape", &Emitter::shape, EmitterShape::Disc, {{"disc", EmitterShape::Disc}},
-                "Shape of the emitter: a disc (a round nozzle) emitting along its normal.")
-        .vec3("center", &Emitter::center, {0, 0, 0}, "m", Range::any(), "Centre of the disc.")
+        .choice("shape", &Emitter::shape, EmitterShape::Disc,
+                {{"disc", EmitterShape::Disc}, {"box", EmitterShape::Box}, {"sphere", EmitterShape::Sphere}},
+                "Shape of the emitter: a disc (a round nozzle) emitting along its normal, or a box or sphere "
+                "(a volume source) that keeps its volume filled with fluid moving along direction.")
+        .vec3("center", &Emitter::center, {0, 0, 0}, "m", Range::any(), "Centre of the disc or sphere.")
+        .onlyWhen([](const Emitter& e) { return e.shape != EmitterShape::Box; }, "disc, sphere")
         .number("radius", &Emitter::radius, 0, "m", Range::nonNegative(),
-                "Radius of the disc; its layer holds the lattice points (spacing fluid.spacing) within it.")
+                "Radius of the disc or sphere; its layer holds the lattice points (spacing fluid.spacing) "
+                "within it.")
+        .onlyWhen([](const Emitter& e) { return e.shape != EmitterShape::Box; }, "disc, sphere")
+        .vec3("min", &Emitter::min, {0, 0, 0}, "m", Range::any(), "Lower corner of the box.")
+        .onlyWhen([](const Emitter& e) { return e.shape == EmitterShape::Box; }, "box")
+        .vec3("max", &Emitter::max, {0, 0, 0}, "m", Range::any(), "Upper corner of the box.")
+        .onlyWhen([](const Emitter& e) { return e.shape == EmitterShape::Box; }, "box")
         .vec3("direction", &Emitter::direction, {0, -1, 0}, "", Range::any(),
-              "Direction of the flow, the disc's normal (any length; normalised where used).")
+              "Direction of the flow: the disc's normal, the volume source's flow (any length; normalised "
+              "where used).")
         .number("velocity", &Emitter::speed, 1, "m/s", Range{0, 1e4, true, false},
                 "Speed of the emitted fluid along direction: the particles enter with this velocity, and a "
                 "new lattice layer enters each time the fluid has advanced one spacing, so the mass flow "
@@ -411,8 +421,20 @@ std::shared_ptr<const Object<Emitter>> emitterSchema() {
                 "are sized for every particle the emitter can add over this time.")
         .check([](const Emitter& e, const Json& raw, const std::string& path) {
           if (!raw.contains("end")) throw SchemaError(path, "an emitter needs \"end\"");
-          if (!raw.contains("radius")) throw SchemaError(path, "a disc needs \"radius\"");
-          if (!(e.radius > 0)) throw SchemaError(schema::childPath(path, "radius"), "expected a radius > 0");
+          if (e.shape == EmitterShape::Box) {
+            for (const char* k : {"min", "max"})
+              if (!raw.contains(k)) throw SchemaError(path, fmt::format("a box emitter needs \"{}\"", k));
+            for (int a = 0; a < 3; ++a)
+              if (!(e.min[a] < e.max[a]))
+                throw SchemaError(schema::childPath(path, "max"),
+                                  "expected max > min on every axis, got min " + vecText(e.min) + ", max " +
+                                      vecText(e.max));
+          } else {
+            const char* shape = e.shape == EmitterShape::Disc ? "disc" : "sphere";
+            if (!raw.contains("radius")) throw SchemaError(path, fmt::format("a {} needs \"radius\"", shape));
+            if (!(e.radius > 0))
+              throw SchemaError(schema::childPath(path, "radius"), "expected a radius > 0");
+          }
           if (!(e.end > e.start))
             throw SchemaError(schema::childPath(path, "end"),
                               fmt::format("expected end > start ({} s), got {} s", e.start, e.end));
@@ -667,19 +689,22 @@ void checkEmittersAndRemoval(const Scene& s, const Json&, const std::string&) {
     const std::string path = "/emitters/" + std::to_string(i);
     const std::string label =
         e.name.empty() ? "emitter " + std::to_string(i) : fmt::format("emitter {} (\"{}\")", i, e.name);
-    // The disc's extent: radius r times sqrt(1 - d_a^2) along each axis a.
+    // The disc's extent: radius r times sqrt(1 - d_a^2) along each axis a; a volume source's bounds.
     const double len = std::sqrt(e.direction[0] * e.direction[0] + e.direction[1] * e.direction[1] +
                                  e.direction[2] * e.direction[2]);
-    Vec3d lo, hi;
-    for (int a = 0; a < 3; ++a) {
-      const double d = e.direction[a] / len, reach = e.radius * std::sqrt(std::max(0.0, 1 - d * d));
-      lo[a] = e.center[a] - reach;
-      hi[a] = e.center[a] + reach;
-    }
+    Vec3d lo = e.min, hi = e.max;
+    if (e.shape != EmitterShape::Box)
+      for (int a = 0; a < 3; ++a) {
+        const double d = e.direction[a] / len;
+        const double reach =
+            e.shape == EmitterShape::Sphere ? e.radius : e.radius * std::sqrt(std::max(0.0, 1 - d * d));
+        lo[a] = e.center[a] - reach;
+        hi[a] = e.center[a] + reach;
+      }
     if (!insideDomain(s.domain, lo, hi))
-      throw SchemaError(
-          path, fmt::format("{}: the disc spans {} - {}, not inside the domain {} - {}", label, vecText(lo),
-                            vecText(hi), vecText(s.domain.min), vecText(s.domain.max)));
+      throw SchemaError(path,
+                        fmt::format("{}: the emitter spans {} - {}, not inside the domain {} - {}", label,
+                                    vecText(lo), vecText(hi), vecText(s.domain.min), vecText(s.domain.max)));
     const size_t layers = emitterLayers(s, e), points = emitterLayerPoints(s, e).size();
     if (layers > limit || (points > 0 && layers > limit / points) || total + layers * points > limit)
       throw SchemaError(path,
@@ -829,6 +854,34 @@ Vec3d unit(const Vec3d& v) {
 
 std::vector<Vec3d> emitterLayerPoints(const Scene& scene, const Emitter& e) {
   const double s = scene.fluid.spacing;
+  if (e.shape != EmitterShape::Disc) {
+    // A volume source: the cubic lattice of the fluid blocks over its bounds (cell centres, exact fit per
+    // axis for a box; centred on the centre for a sphere), every point of the volume.
+    std::vector<Vec3d> points;
+    if (e.shape == EmitterShape::Box) {
+      std::array<long, 3> n{};
+      for (int a = 0; a < 3; ++a) n[a] = std::max(1L, long(std::lround((e.max[a] - e.min[a]) / s)));
+      for (long k = 0; k < n[2]; ++k)
+        for (long j = 0; j < n[1]; ++j)
+          for (long i = 0; i < n[0]; ++i) {
+            const std::array<long, 3> idx{i, j, k};
+            Vec3d p;
+            for (int a = 0; a < 3; ++a)
+              p[a] = e.min[a] + (double(idx[a]) + 0.5) * (e.max[a] - e.min[a]) / double(n[a]);
+            points.push_back(p);
+          }
+      return points;
+    }
+    const long n = long(std::floor(e.radius / s + 1e-9));
+    const double r2 = (e.radius / s) * (e.radius / s) * (1 + 1e-12);
+    for (long k = -n; k <= n; ++k)
+      for (long j = -n; j <= n; ++j)
+        for (long i = -n; i <= n; ++i)
+          if (double(i * i + j * j + k * k) <= r2)
+            points.push_back(
+                {e.center[0] + s * double(i), e.center[1] + s * double(j), e.center[2] + s * double(k)});
+    return points;
+  }
   const auto [u, w] = emitterBasis(unit(e.direction));
   const long n = long(std::floor(e.radius / s + 1e-9));
   const double r2 = (e.radius / s) * (e.radius / s) * (1 + 1e-12);

@@ -156,6 +156,9 @@ ShaderDefines simShaderDefines(const Scene& scene) {
   if (scene.changesParticleCount()) {
     d.set("SIM_DYNAMIC_COUNT");  // the live count on the GPU (sph_dynamic.glsl)
     if (!scene.emitters.empty()) d.set("HAS_EMITTERS");
+    if (std::any_of(scene.emitters.begin(), scene.emitters.end(),
+                    [](const Emitter& e) { return e.shape != EmitterShape::Disc; }))
+      d.set("HAS_VOLUME_SOURCES");  // sim_integrate.comp imposes their velocity inside them
     int open = 0;
     for (const DomainFace f : scene.domain.open) open |= 1 << int(f);
     if (open) d.set("SIM_OPEN_FACES", open);

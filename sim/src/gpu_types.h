@@ -68,7 +68,9 @@ struct ColliderGpu {
 struct EmitterGpu {
   double time[2];     ///< start (s), layer period spacing / speed (s)
   float dirSpeed[4];  ///< xyz: unit direction, w: speed
-  uint32_t info[4];   ///< points per layer, first point, layers in all, unused
+  uint32_t info[4];   ///< points per layer, first point, layers in all, 1 for a volume source
+  float regionA[4];   ///< volume source: box min, or sphere centre with w = radius
+  float regionB[4];   ///< volume source: box max; w: 1 box, 2 sphere (0: a disc, no region)
 };
 
 /// Normalisation factors of the kernels for support radius h (Mueller et al. 2003).

@@ -48,8 +48,8 @@ Simulator::Simulator(const Scene& scene, const std::string& shotDir)
   const GridSpec spec = GridSpec::forScene(scene);
   grid_ = std::make_unique<NeighborGrid>(*gate_, spec, capacity_, dynamic_);
   boundary_ = std::make_unique<BoundaryAkinci2012>(
-      wallSamplingScene(scene, boundaryLayers(scene) * scene.fluid.spacing), buildColliderFields(scene, shotDir),
-      *gate_, spec, defines_);
+      wallSamplingScene(scene, boundaryLayers(scene) * scene.fluid.spacing),
+      buildColliderFields(scene, shotDir), *gate_, spec, defines_);
   solver_ = makePressureSolver(scene, *gate_, defines_, *boundary_);
   stepper_ = std::make_unique<SymplecticEuler>(*gate_, defines_);
   health_ = ShaderProgram::compute(simShaderTable(), "sim_health.comp", defines_);
@@ -192,6 +192,13 @@ void Simulator::setUpDynamic() {
     g.info[0] = uint32_t(layer.size());
     g.info[1] = uint32_t(points.size());
     g.info[2] = uint32_t(emitterLayers(scene_, em));
+    g.info[3] = em.shape == EmitterShape::Disc ? 0u : 1u;  // a volume source: only its newest due layer
+    for (int a = 0; a < 3; ++a) {
+      g.regionA[a] = float(em.shape == EmitterShape::Box ? em.min[a] : em.center[a]);
+      g.regionB[a] = float(em.max[a]);
+    }
+    g.regionA[3] = float(em.radius);
+    g.regionB[3] = em.shape == EmitterShape::Box ? 1.0f : em.shape == EmitterShape::Sphere ? 2.0f : 0.0f;
     table.push_back(g);
     for (const Vec3d& p : layer)
       points.push_back({float(p[0]), float(p[1]), float(p[2]), std::bit_cast<float>(uint32_t(e))});

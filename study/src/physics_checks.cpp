@@ -55,7 +55,9 @@ double wallGap(const Scene& scene, const std::vector<ColliderPose>& poses,
   double gap = kInfinity;
   for (int a = 0; a < 3; ++a) {
     if (scene.domain.isPeriodic(a)) continue;
-    gap = std::min({gap, p[a] - scene.domain.min[a], scene.domain.max[a] - p[a]});
+    // An open face is no wall: fluid leaving through it is not pressed into anything.
+    if (!scene.domain.isOpen(a, 0)) gap = std::min(gap, p[a] - scene.domain.min[a]);
+    if (!scene.domain.isOpen(a, 1)) gap = std::min(gap, scene.domain.max[a] - p[a]);
   }
   for (size_t c = 0; c < scene.colliders.size(); ++c)
     gap = std::min(
@@ -188,7 +190,12 @@ double speedBound(const Scene& scene) {
                                  pose.velocity[2] * pose.velocity[2]);
       collider = std::max(collider, v + (w > 0 ? w * colliderReach(c) : 0.0));
     }
-  return 2 * std::sqrt(g * initialFluidHeight(scene)) + initial + collider;
+  // Emitted fluid: its speed, plus the fall from the emitter's height (the same 2 sqrt(g H) allowance).
+  double emitted = 0;
+  for (const auto& e : scene.emitters)
+    emitted =
+        std::max(emitted, 2 * std::sqrt(g * std::max(e.center[1] - scene.domain.min[1], 0.0)) + e.speed);
+  return std::max(2 * std::sqrt(g * initialFluidHeight(scene)) + initial, emitted) + collider;
 }
 
 namespace {

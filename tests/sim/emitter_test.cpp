@@ -11,6 +11,7 @@
 #include <iterator>
 #include <map>
 #include <numbers>
+#include <set>
 
 #include "sim_test_util.h"
 #include "simulator.h"
@@ -202,6 +203,76 @@ TEST(Emitters, DeterministicAndResumableWithVaryingCounts) {
     byId(p);
   }
   std::printf("\n");
+}
+
+TEST(Emitters, VolumeSourcesKeepTheirVolumeFilledAtRhoVA) {
+  auto ctx = test::makeContext();
+  // Without gravity, fluid leaving a volume source along -y at v keeps moving at v: the source refills
+  // what it vacates, one lattice point per column of its volume (its cross-section, in lattice points)
+  // per spacing of travel, so the mass flow is rho v A_cross after the first layer fills the volume.
+  for (const std::string source : {R"("shape": "box", "min": [0.09, 0.34, 0.09], "max": [0.21, 0.42, 0.21])",
+                                   R"("shape": "sphere", "center": [0.15, 0.37, 0.15], "radius": 0.05)"}) {
+    SCOPED_TRACE(source);
+    const Scene scene = test::sceneFromJson(R"({
+      "domain": {"min": [0, 0, 0], "max": [0.3, 0.5, 0.3]}, "gravity": [0, 0, 0],
+      "fluid": {"spacing": 0.02, "blocks": []},
+      "solver": {"wcsph": {"kernel": "muller2003"}},
+      "time": {"fps": 25, "start_frame": 1, "end_frame": 13},
+      "emitters": [{)" + source + R"(, "direction": [0, -1, 0], "velocity": 0.5, "start": 0.01, "end": 1.0}]
+    })");
+    const double m = sim::calibratedParticleMass(scene), s = scene.fluid.spacing;
+    std::set<std::pair<long, long>> columns;
+    const auto points = emitterLayerPoints(scene, scene.emitters[0]);
+    for (const Vec3d& p : points) columns.insert({std::lround(p[0] / s * 2), std::lround(p[2] / s * 2)});
+    const std::string shot = runShot("volume_source", scene);
+    // Frames are one layer period (spacing / v = 0.04 s) apart and layers fall between them (start
+    // 0.01 s), so the window holds a whole number of layers.
+    const ParticleFrame first = readParticleCache(particleCachePath(shot, 2));
+    const ParticleFrame last = readParticleCache(particleCachePath(shot, 13));
+    const double flow = double(last.size() - first.size()) * m / (last.time - first.time);
+    const double reference = m / (s * s * s) * 0.5 * double(columns.size()) * s * s;  // rho v A, lattice mass
+    std::printf(
+        "%s: %zu points in %zu columns; %zu then %zu particles: mass flow %.4f kg/s, rho v A %.4f kg/s "
+        "(%+.2f %%)\n",
+        scene.emitters[0].shape == EmitterShape::Box ? "box" : "sphere", points.size(), columns.size(),
+        first.size(), last.size(), flow, reference, 100 * (flow / reference - 1));
+    EXPECT_GE(first.size(), points.size());  // the volume filled at once
+    EXPECT_NEAR(flow / reference, 1.0, 0.02);
+    // No two particles closer than half a spacing: nothing was emitted into fluid.
+    double closest = 1;
+    for (size_t i = 0; i < last.size(); ++i)
+      for (size_t j = i + 1; j < last.size(); ++j) {
+        double d2 = 0;
+        for (int a = 0; a < 3; ++a) d2 += std::pow(double(last.position[i][a]) - last.position[j][a], 2);
+        closest = std::min(closest, std::sqrt(d2));
+      }
+    std::printf("closest pair %.4f m (spacing %.2f m)\n", closest, s);
+    EXPECT_GT(closest, 0.5 * s);
+  }
+}
+
+TEST(Emitters, ANozzleInsideFluidAddsNothing) {
+  auto ctx = test::makeContext();
+  // The nozzle's disc lies on the resting block's lattice (cell centres at odd multiples of 0.01 m), so
+  // every emitted point falls between two of the block's particles, less than half a spacing from one:
+  // no point may be emitted, and nothing may be pressed into the fluid and blown apart.
+  const Scene scene = test::sceneFromJson(R"({
+    "domain": {"min": [0, 0, 0], "max": [0.2, 0.2, 0.2]},
+    "fluid": {"spacing": 0.02, "blocks": [{"min": [0, 0, 0], "max": [0.2, 0.16, 0.2]}]},
+    "time": {"fps": 50, "start_frame": 1, "end_frame": 6},
+    "emitters": [{"center": [0.09, 0.09, 0.09], "radius": 0.045, "direction": [0, -1, 0], "velocity": 0.5,
+                  "start": 0.0, "end": 1.0}]
+  })");
+  const std::string shot = runShot("blocked", scene);
+  const size_t block = countInitialParticles(scene);
+  for (int f = 1; f <= 6; ++f) {
+    const ParticleFrame frame = readParticleCache(particleCachePath(shot, f));
+    double vmax = 0;
+    for (const auto& v : frame.velocity) vmax = std::max(vmax, double(speed(v)));
+    std::printf("frame %d: %zu particles (block %zu), fastest %.3f m/s\n", f, frame.size(), block, vmax);
+    EXPECT_EQ(frame.size(), block);
+    EXPECT_LT(vmax, 0.5);  // a settling block, not an explosion (the nozzle's 0.5 m/s would not even enter)
+  }
 }
 
 TEST(Emitters, SceneWithoutThemCompilesNoEmitterOrRemovalCode) {

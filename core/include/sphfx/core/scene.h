@@ -34,7 +34,7 @@ enum class PeriodicAxis { X, Y, Z };
 /// Faces of the domain box; an open face has no wall and removes the particles that leave through it.
 enum class DomainFace { XMin, XMax, YMin, YMax, ZMin, ZMax };
 /// Shapes of an emitter (a nozzle that adds particles while it is active).
-enum class EmitterShape { Disc };
+enum class EmitterShape { Disc, Box, Sphere };
 
 /// The simulation domain: a box with solid walls on its six sides, except the faces of periodic axes.
 struct Domain {
@@ -163,8 +163,10 @@ struct Collider {
 struct Emitter {
   std::string name;
   EmitterShape shape = EmitterShape::Disc;
-  Vec3d center{};
-  double radius = 0;
+  Vec3d center{};  ///< disc, sphere
+  double radius = 0;  ///< disc, sphere
+  Vec3d min{};  ///< box
+  Vec3d max{};  ///< box
   Vec3d direction{0, -1, 0};  ///< unit vector (normalised on load)
   double speed = 0;           ///< m/s along direction; also the emitted particles' velocity
   double start = 0;           ///< s

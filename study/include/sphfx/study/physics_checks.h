@@ -48,7 +48,7 @@ enum class Criterion {
   Rest,    ///< surface height drift < s/2, bulk density within 0.5 %, kinetic energy settles
   Energy,  ///< a closed system: total energy never grows by more than 1 % of g H
   Walls,   ///< no particle closer than 0.1 s to a wall or collider surface
-  Speed    ///< no particle faster than 2 sqrt(g H) plus the scene's initial and collider speeds
+  Speed    ///< no particle faster than speedBound()
 };
 
 /// "rest", "energy", "walls", "speed".
@@ -74,7 +74,9 @@ CriterionResult judge(Criterion c, const std::vector<FrameState>& states, const 
 double initialFluidHeight(const Scene& scene);
 
 /// 2 sqrt(g H) (Ritter's dam-break front speed, the fastest a gravity flow from rest of depth H runs)
-/// plus the largest initial particle speed and the largest collider speed (m/s).
+/// plus the largest initial particle speed, or for emitted fluid 2 sqrt(g H_e) plus the emitter's speed
+/// (H_e its height above the floor), whichever is larger; plus the largest collider material speed
+/// (|v| + |omega| r) (m/s).
 double speedBound(const Scene& scene);
 
 }  // namespace sphfx::study
