@@ -18,20 +18,13 @@
 
 #include "sphfx/core/collider_motion.h"
 #include "sphfx/core/error.h"
+#include "sphfx/core/frame_files.h"
 #include "sphfx/core/vdb_io.h"
 
 namespace sphfx {
 namespace {
 
 using P3 = std::array<float, 3>;
-
-std::string readWhole(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw IoError(path + ": cannot open for reading");
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 // Three coordinates from a stream of tokens, as strtof reads them ("nan" and "inf" included, so that
 // they are reported as such rather than as a syntax error).
@@ -59,7 +52,7 @@ std::string lowerExtension(const std::string& path) {
 // OBJ: "v x y z [w]" and "f a b c ..." (a = i, i/t, i//n or i/t/n; negative: relative to the end).
 // Everything else (vt, vn, g, o, s, usemtl, mtllib, comments) carries nothing a collider needs.
 TriangleMesh readObj(const std::string& path) {
-  std::istringstream in(readWhole(path));
+  std::istringstream in(readTextFile(path));
   TriangleMesh m;
   std::string line;
   for (size_t lineNo = 1; std::getline(in, line); ++lineNo) {
@@ -140,7 +133,7 @@ TriangleMesh readBinaryStl(const std::string& path, const std::string& bytes) {
 // Binary STL: an 80-byte header, a triangle count and 50 bytes per triangle; a file of exactly that size
 // is binary even if its header starts with "solid" (many exporters write that).
 TriangleMesh readStl(const std::string& path) {
-  const std::string bytes = readWhole(path);
+  const std::string bytes = readTextFile(path);
   if (bytes.size() >= 84) {
     uint32_t n = 0;
     std::memcpy(&n, bytes.data() + 80, 4);
@@ -221,7 +214,7 @@ std::string fieldKey(const Collider& c, const FieldSpec& spec) {
                                          c.grid, c.scale, c.thickness, c.rotation[0], c.rotation[1],
                                          c.rotation[2], c.translation[0], c.translation[1], c.translation[2],
                                          spec.voxel, spec.interiorDepth, spec.exteriorBand, c.file);
-  return fmt::format("{:016x}", fnv1a(params, fnv1a(readWhole(c.file))));
+  return fmt::format("{:016x}", fnv1a(params, fnv1a(readTextFile(c.file))));
 }
 
 std::string openMeshMessage(size_t index, const Collider& c, size_t open) {
