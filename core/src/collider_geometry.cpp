@@ -19,6 +19,7 @@
 #include "sphfx/core/collider_motion.h"
 #include "sphfx/core/error.h"
 #include "sphfx/core/frame_files.h"
+#include "sphfx/core/hash.h"
 #include "sphfx/core/vdb_io.h"
 
 namespace sphfx {
@@ -204,17 +205,12 @@ TriangleMesh meshLevelSet(const Collider& c) {
   return m;
 }
 
-uint64_t fnv1a(const std::string& bytes, uint64_t h = 1469598103934665603ull) {
-  for (unsigned char b : bytes) h = (h ^ b) * 1099511628211ull;
-  return h;
-}
-
 std::string fieldKey(const Collider& c, const FieldSpec& spec) {
   const std::string params = fmt::format("v1 {} {} {} {} [{},{},{}] [{},{},{}] {} {} {} {}", int(c.shape),
                                          c.grid, c.scale, c.thickness, c.rotation[0], c.rotation[1],
                                          c.rotation[2], c.translation[0], c.translation[1], c.translation[2],
                                          spec.voxel, spec.interiorDepth, spec.exteriorBand, c.file);
-  return fmt::format("{:016x}", fnv1a(params, fnv1a(readTextFile(c.file))));
+  return fmt::format("{:016x}", fnv1a64(params, fnv1a64(readTextFile(c.file))));
 }
 
 std::string openMeshMessage(size_t index, const Collider& c, size_t open) {

@@ -6,6 +6,7 @@
 
 #include "sphfx/core/error.h"
 #include "sphfx/core/frame_files.h"
+#include "sphfx/core/hash.h"
 
 namespace sphfx::sim {
 namespace {
@@ -24,9 +25,7 @@ uint64_t sceneStateHash(const Scene& scene) {
   j["time"].erase("end_frame");
   for (const char* k : {"cache", "surface", "render", "name", "limits"}) j.erase(k);
   const std::string text = j.dump();
-  uint64_t h = 1469598103934665603ull;  // FNV-1a
-  for (unsigned char c : text) h = (h ^ c) * 1099511628211ull;
-  return h;
+  return fnv1a64(text);
 }
 
 void writeRestartFile(const std::string& path, const SimulatorState& s, uint64_t sceneHash) {

@@ -11,6 +11,7 @@
 #include "metrics.h"
 #include "sphfx/core/error.h"
 #include "sphfx/core/frame_files.h"
+#include "sphfx/core/hash.h"
 #include "sphfx/core/log.h"
 #include "sphfx/core/scene.h"
 

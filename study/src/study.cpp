@@ -13,6 +13,7 @@
 #include "report.h"
 #include "sphfx/core/error.h"
 #include "sphfx/core/frame_files.h"
+#include "sphfx/core/hash.h"
 #include "sphfx/core/log.h"
 #include "sphfx/core/scene.h"
 
@@ -20,14 +21,6 @@ namespace fs = std::filesystem;
 
 namespace sphfx::study {
 
-std::string fnv1aHex(const std::string& text) {
-  uint64_t h = 1469598103934665603ull;
-  for (unsigned char c : text) {
-    h ^= c;
-    h *= 1099511628211ull;
-  }
-  return fmt::format("{:016x}", h);
-}
 namespace {
 
 /// A value as --set takes it: strings bare, everything else as JSON.

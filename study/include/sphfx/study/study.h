@@ -65,8 +65,6 @@ std::string studyInputsDigest(const StudySpec& spec);
 
 /// "<!-- inputs digest: D -->": the line a report carries, and the one a staleness check looks for.
 std::string inputsDigestLine(const std::string& digest);
-/// FNV-1a 64 of `text`, as 16 hex digits.
-std::string fnv1aHex(const std::string& text);
 
 /// How one simulation ended.
 enum class RunStatus { Completed, StoppedCleanly, Failed };
