@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <numbers>
 #include <string>
@@ -13,6 +14,14 @@
 namespace sphfx::test {
 
 using V3 = std::array<double, 3>;
+
+/// An empty folder TMP/sphfx_NAME for a test's files.
+inline std::filesystem::path freshTestDir(const std::string& name) {
+  const std::filesystem::path d = std::filesystem::temp_directory_path() / ("sphfx_" + name);
+  std::filesystem::remove_all(d);
+  std::filesystem::create_directories(d);
+  return d;
+}
 
 /// Box [lo, hi] as OBJ: 8 vertices, 6 outward-wound quads.
 inline void writeBoxObj(const std::string& path, const V3& lo, const V3& hi) {

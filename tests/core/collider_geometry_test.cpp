@@ -23,10 +23,7 @@ namespace fs = std::filesystem;
 namespace {
 
 fs::path testDir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("sphfx_collider_geometry_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
+  return test::freshTestDir("collider_geometry_" + name);
 }
 
 void writeText(const fs::path& p, const std::string& text) {

@@ -23,17 +23,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string runShot(const std::string& name, const Scene& scene, bool resume = false) {
-  const std::string shot = (fs::temp_directory_path() / ("sphfx_emitter_test_" + name)).string();
-  if (!resume) fs::remove_all(shot);
-  sim::SimulationOptions o;
-  o.shotDir = shot;
-  o.resume = resume;
-  o.progress = false;
-  sim::simulateShot(scene, o);
-  return shot;
-}
-
 std::string bytes(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   return {std::istreambuf_iterator<char>(in), {}};
@@ -77,7 +66,7 @@ TEST(Emitters, MassFlowIsRestDensityTimesSpeedTimesArea) {
     const Emitter& e = scene.emitters[0];
     const size_t points = emitterLayerPoints(scene, e).size();
     ASSERT_EQ(points, 61u);
-    const std::string shot = runShot("flow_" + kernel, scene);
+    const std::string shot = test::simulateTestShot("emitter_flow_" + kernel, scene);
     const ParticleFrame a = readParticleCache(particleCachePath(shot, 2));
     const ParticleFrame b = readParticleCache(particleCachePath(shot, 16));
     EXPECT_EQ(readParticleCache(particleCachePath(shot, 1)).size(), 0u)
@@ -125,7 +114,7 @@ TEST(OpenBoundaries, OpenFaceAndKillBoxRemoveExactlyTheParticlesThatReachThem) {
     "kill": [{"min": [0.24, -0.1, -0.1], "max": [0.3, 0.03, 0.3]}],
     "time": {"fps": 50, "start_frame": 1, "end_frame": 14}
   })");
-  const std::string shot = runShot("open", scene);
+  const std::string shot = test::simulateTestShot("emitter_open", scene);
   const double dt = 1.0 / scene.time.fps, xmax = scene.domain.max[0];
   const KillBox& k = scene.kill[0];
   size_t removedAtFace = 0, removedInBox = 0;
@@ -185,10 +174,10 @@ TEST(Emitters, DeterministicAndResumableWithVaryingCounts) {
       "cache": {"attributes": ["density"]}
     })");
   };
-  const std::string a = runShot("det_a", scene(10));
-  const std::string b = runShot("det_b", scene(10));
-  runShot("det_c", scene(5));
-  const std::string c = runShot("det_c", scene(10), true);
+  const std::string a = test::simulateTestShot("emitter_det_a", scene(10));
+  const std::string b = test::simulateTestShot("emitter_det_b", scene(10));
+  test::simulateTestShot("emitter_det_c", scene(5));
+  const std::string c = test::simulateTestShot("emitter_det_c", scene(10), true);
   std::printf("particles per frame:");
   for (int f = 1; f <= 10; ++f) {
     const std::string x = bytes(particleCachePath(a, f));
@@ -224,7 +213,7 @@ TEST(Emitters, VolumeSourcesKeepTheirVolumeFilledAtRhoVA) {
     std::set<std::pair<long, long>> columns;
     const auto points = emitterLayerPoints(scene, scene.emitters[0]);
     for (const Vec3d& p : points) columns.insert({std::lround(p[0] / s * 2), std::lround(p[2] / s * 2)});
-    const std::string shot = runShot("volume_source", scene);
+    const std::string shot = test::simulateTestShot("emitter_volume_source", scene);
     // Frames are one layer period (spacing / v = 0.04 s) apart and layers fall between them (start
     // 0.01 s), so the window holds a whole number of layers.
     const ParticleFrame first = readParticleCache(particleCachePath(shot, 2));
@@ -263,7 +252,7 @@ TEST(Emitters, ANozzleInsideFluidAddsNothing) {
     "emitters": [{"center": [0.09, 0.09, 0.09], "radius": 0.045, "direction": [0, -1, 0], "velocity": 0.5,
                   "start": 0.0, "end": 1.0}]
   })");
-  const std::string shot = runShot("blocked", scene);
+  const std::string shot = test::simulateTestShot("emitter_blocked", scene);
   const size_t block = countInitialParticles(scene);
   for (int f = 1; f <= 6; ++f) {
     const ParticleFrame frame = readParticleCache(particleCachePath(shot, f));

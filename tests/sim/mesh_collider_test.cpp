@@ -27,10 +27,7 @@ namespace fs = std::filesystem;
 namespace {
 
 fs::path testDir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("sphfx_mesh_collider_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
+  return test::freshTestDir("mesh_collider_" + name);
 }
 
 std::string withCollider(const std::string& domainAndFluid, const std::string& collider,

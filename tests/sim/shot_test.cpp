@@ -36,23 +36,12 @@ Scene shotScene(int endFrame) {
                     "cache.attributes=[\"density\",\"id\"]"});
 }
 
-std::string run(const std::string& name, const Scene& scene, bool resume) {
-  const std::string shot = (fs::temp_directory_path() / ("sphfx_sim_test_" + name)).string();
-  if (!resume) fs::remove_all(shot);
-  sim::SimulationOptions o;
-  o.shotDir = shot;
-  o.resume = resume;
-  o.progress = false;
-  sim::simulateShot(scene, o);
-  return shot;
-}
-
 TEST(Shot, TwoRunsGiveIdenticalCachesAndResumeEqualsUninterrupted) {
   auto ctx = test::makeContext();
-  const std::string a = run("a", shotScene(6), false);
-  const std::string b = run("b", shotScene(6), false);
-  run("c", shotScene(3), false);                       // "killed" after frame 3 ...
-  const std::string c = run("c", shotScene(6), true);  // ... and resumed
+  const std::string a = test::simulateTestShot("a", shotScene(6), false);
+  const std::string b = test::simulateTestShot("b", shotScene(6), false);
+  test::simulateTestShot("c", shotScene(3), false);                       // "killed" after frame 3 ...
+  const std::string c = test::simulateTestShot("c", shotScene(6), true);  // ... and resumed
   for (int f = 1; f <= 6; ++f) {
     expectSameCache(particleCachePath(a, f), particleCachePath(b, f));
     expectSameCache(particleCachePath(a, f), particleCachePath(c, f));

@@ -7,6 +7,7 @@
 #include <array>
 #include <bit>
 #include <cstdlib>
+#include <filesystem>
 #include <memory>
 #include <set>
 #include <string>
@@ -24,12 +25,26 @@
 #include "sphfx/gpu/gl_context.h"
 #include "sphfx/gpu/gpu_buffer.h"
 #include "sphfx/gpu/shader_program.h"
+#include "sphfx/sim/simulation.h"
 
 namespace sphfx::test {
 
 inline std::unique_ptr<GLContext> makeContext() {
   const char* name = std::getenv("SPHFX_GL");
   return GLContext::create({parseGLBackend(name ? name : "auto"), false});
+}
+
+/// Simulates `scene` into the shot TMP/sphfx_sim_test_NAME (emptied first unless `resume`), without a
+/// progress line; returns the shot folder.
+inline std::string simulateTestShot(const std::string& name, const Scene& scene, bool resume = false) {
+  const std::string shot = (std::filesystem::temp_directory_path() / ("sphfx_sim_test_" + name)).string();
+  if (!resume) std::filesystem::remove_all(shot);
+  sim::SimulationOptions o;
+  o.shotDir = shot;
+  o.resume = resume;
+  o.progress = false;
+  sim::simulateShot(scene, o);
+  return shot;
 }
 
 /// A scene from JSON text with the given overrides.
