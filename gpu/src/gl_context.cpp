@@ -135,9 +135,13 @@ class EglContext final : public GLContext {
 /// software device (EGL_MESA_device_software); that is the surfaceless backend's job, so it is skipped.
 std::unique_ptr<EglContext> tryEglDevice(bool debug, std::string& why) {
   const char* clientExt = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
+  // EGL_EXT_device_base is enumeration and query in one name; NVIDIA's driver behind glvnd lists only it.
   if (!hasExtension(clientExt, "EGL_EXT_platform_device") ||
-      !hasExtension(clientExt, "EGL_EXT_device_enumeration")) {
-    why = "EGL lacks EGL_EXT_platform_device / EGL_EXT_device_enumeration";
+      !(hasExtension(clientExt, "EGL_EXT_device_enumeration") ||
+        hasExtension(clientExt, "EGL_EXT_device_base"))) {
+    why =
+        fmt::format("EGL lacks EGL_EXT_platform_device / EGL_EXT_device_enumeration (client extensions: {})",
+                    clientExt ? clientExt : "none");
     return nullptr;
   }
   auto queryDevices = reinterpret_cast<PFNEGLQUERYDEVICESEXTPROC>(eglGetProcAddress("eglQueryDevicesEXT"));
