@@ -4,10 +4,11 @@
 # 0.6 s). Prints each variant's largest relative change of the front position against the default run
 # (frames from t = 0.1 s), and the wall time of each run.
 #
-#   sh bench/sensitivity.sh [BUILD_DIR] [OUT_DIR]
+#   sh bench/sensitivity.sh [BUILD_DIR] [OUT_DIR] ["--set KEY=VALUE ..." applied to every run]
 set -eu
 build=${1:-build}
 out=${2:-sensitivity}
+common=${3:-}
 scene=studies/scenes/dam_break.json
 mkdir -p "$out"
 run() {
@@ -15,7 +16,8 @@ run() {
   shift
   rm -rf "$out/$name"
   start=$(date +%s.%N)
-  "$build/cli/sphfx" -q simulate "$scene" -o "$out/$name" "$@"
+  # shellcheck disable=SC2086 # $common is a list of options
+  "$build/cli/sphfx" -q simulate "$scene" -o "$out/$name" $common "$@"
   end=$(date +%s.%N)
   "$build/bench/dam_front" "$out/$name" 0.01 > "$out/$name.front"
   echo "$name: $(python3 -c "print(f'{$end - $start:.1f}')") s"

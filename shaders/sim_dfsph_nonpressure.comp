@@ -47,8 +47,8 @@ void viscosityAndWarmPressure(uint i, vec3 xi, vec3 vi, float rhoi, float pi, ou
 #endif
   }
 #if defined(DFSPH_WALL_LAPLACIAN_SUM)
-  wall = -(simViscosity.x / rhoi * dfsphBoundary(i).w) * vi;
-#elif defined(VISCOSITY_ARTIFICIAL) || defined(VISCOSITY_LAPLACIAN)
+  wall = -(simViscosity.w * simViscosity.x / rhoi * dfsphBoundary(i).w) * vi;
+#elif defined(SIM_WALL_VISCOSITY)
   SPH_FOR_EACH_CELL_RANGE(xi, row, seam, first, last)
     SPH_FOR_EACH_BOUNDARY(j, first, last) {
       vec4 b = sphFetchBoundaryPos(j);
@@ -70,6 +70,7 @@ void viscosityAndWarmPressure(uint i, vec3 xi, vec3 vi, float rhoi, float pi, ou
 #endif
     }
   SPH_END_FOR_EACH_CELL_RANGE
+  wall *= simViscosity.w;  // fluid.wall_viscosity_factor
 #endif
   visc = fluid + wall;
   pressure = push;

@@ -1,7 +1,7 @@
 // WCSPH pass 3: accelerations. Symmetric pressure force with the scene kernel's gradient (sphGradW),
 // Akinci 2012 boundary samples of volume psi_b with their own pressure (sim_boundary_pressure.comp: the
-// same pair term as between particles, so the walls conserve energy) and friction, viscosity
-// (VISCOSITY_LAPLACIAN: Mueller et al. 2003; VISCOSITY_ARTIFICIAL: Monaghan), gravity. Reduces max |v|^2
+// same pair term as between particles, so the walls conserve energy) and their viscosity
+// (SIM_WALL_VISCOSITY), viscosity (VISCOSITY_LAPLACIAN: Mueller et al. 2003; VISCOSITY_ARTIFICIAL: Monaghan), gravity. Reduces max |v|^2
 // and |a|^2 for the CFL step.
 #include "sph_params.glsl"
 #include "sph_neighbors.glsl"
@@ -76,11 +76,12 @@ vec3 boundaryTerm(uint j, vec3 xi, vec3 vi, float rhoi, float dpi) {
     vec3 grad = sphGradW(d, r);
     // The wall sample's own p_b / rho_b^2 (never negative: no wall suction).
     float coef = dpi + boundaryPressure[j];
-#if defined(VISCOSITY_ARTIFICIAL)
-    coef += artificialViscosity(vi - bvel[j].xyz, d, r2, 2.0 * rhoi);
-#elif defined(VISCOSITY_LAPLACIAN)
-    // As a fluid neighbour of mass psi_b and density rho_b = rho_i at the wall's velocity (no slip).
-    a += (b.w * simViscosity.x / rhoi * sphViscosityLaplacian(r)) * (bvel[j].xyz - vi);
+#if defined(SIM_WALL_VISCOSITY) && defined(VISCOSITY_ARTIFICIAL)
+    coef += simViscosity.w * artificialViscosity(vi - bvel[j].xyz, d, r2, 2.0 * rhoi);
+#elif defined(SIM_WALL_VISCOSITY) && defined(VISCOSITY_LAPLACIAN)
+    // As a fluid neighbour of mass psi_b and density rho_b = rho_i at the wall's velocity (no slip), times
+    // fluid.wall_viscosity_factor.
+    a += (simViscosity.w * b.w * simViscosity.x / rhoi * sphViscosityLaplacian(r)) * (bvel[j].xyz - vi);
 #endif
     a -= (b.w * coef) * grad;
   }

@@ -33,7 +33,8 @@ float chooseDt(float speed2, float accel2) {
   if (accel2 > 0.0) dt = min(dt, simStep.z * sqrt(h / sqrt(accel2)));
 #endif
 #if defined(VISCOSITY_LAPLACIAN)
-  if (simViscosity.x > 0.0) dt = min(dt, simStep.y * h * h / simViscosity.x);
+  // The walls' viscosity is fluid.wall_viscosity_factor times the fluid's (w: 0 without SIM_WALL_VISCOSITY).
+  if (simViscosity.x > 0.0) dt = min(dt, simStep.y * h * h / (simViscosity.x * max(1.0, simViscosity.w)));
 #endif
   return dt;
 }

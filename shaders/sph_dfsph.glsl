@@ -78,7 +78,7 @@ float dfsphWallScale(vec3 xb) {
 // nu / rho_i sum_b psi_b lap W_ib (0 - v_i) = -(nu / rho_i) v_i sum_b psi_b lap W_ib, so the factor pass
 // sums psi_b lap W_ib in its boundary loop (in dfBoundary.w, where the walls' velocity term is 0) and the
 // non-pressure pass needs no boundary walk of its own.
-#if defined(VISCOSITY_LAPLACIAN) && !defined(HAS_COLLIDERS)
+#if defined(VISCOSITY_LAPLACIAN) && defined(SIM_WALL_VISCOSITY) && !defined(HAS_COLLIDERS)
 #define DFSPH_WALL_LAPLACIAN_SUM
 #endif
 

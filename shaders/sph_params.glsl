@@ -12,7 +12,8 @@ layout(std140, binding = SPHFX_UBO_SIM_PARAMS) uniform SimParams {
   vec4 simKernel;      // x: poly6 factor, y: spiky gradient factor (< 0), z: viscosity Laplacian
                        // factor, w: h^2
   vec4 simFluid;       // x: rest density, y: EOS stiffness (linear k or Tait B), z: gamma, w: speed of sound
-  vec4 simViscosity;   // x: kinematic viscosity, y: Monaghan alpha, z: wall clamp margin, w: unused
+  vec4 simViscosity;   // x: kinematic viscosity, y: Monaghan alpha, z: wall clamp margin,
+                       // w: wall viscosity factor (SIM_WALL_VISCOSITY)
   vec4 simStep;        // x: CFL factor, y: viscous factor, z: force (WCSPH) or fall (DFSPH) factor,
                        // w: fixed dt (0: CFL)
   vec4 simLimits;      // x: dt_min, y: dt_max, z: health max density, w: health max speed

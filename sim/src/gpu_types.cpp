@@ -118,6 +118,7 @@ SimParams makeSimParams(const Scene& scene, uint32_t particles, uint32_t boundar
   p.viscosity[0] = float(scene.fluid.viscosity);
   p.viscosity[1] = float(scene.fluid.artificialViscosity);
   p.viscosity[2] = float(clampMargin(scene));
+  p.viscosity[3] = float(scene.fluid.wallViscosityFactor);
   const bool fixed = scene.time.mode == TimeStepMode::Fixed;
   p.step[0] = float(scene.time.cflFactor);
   p.step[1] = float(scene.time.viscousFactor);
@@ -142,6 +143,8 @@ ShaderDefines simShaderDefines(const Scene& scene) {
   d.set(scene.solver.wcsph.eos == EquationOfState::Tait ? "EOS_TAIT" : "EOS_LINEAR");
   if (scene.fluid.viscosityModel == ViscosityModel::Laplacian) d.set("VISCOSITY_LAPLACIAN");
   if (scene.fluid.viscosityModel == ViscosityModel::Artificial) d.set("VISCOSITY_ARTIFICIAL");
+  if (scene.fluid.viscosityModel != ViscosityModel::None && scene.fluid.wallViscosityFactor > 0)
+    d.set("SIM_WALL_VISCOSITY");
   if (usesWendland(scene)) d.set("KERNEL_WENDLAND_C2");
   if (!scene.colliders.empty()) d.set("HAS_COLLIDERS");
   if (std::any_of(scene.colliders.begin(), scene.colliders.end(),

@@ -319,8 +319,8 @@ void Simulator::checkHealth(const SimState& s) const {
     const float v2 = std::bit_cast<float>(s.maxSpeed2), rho = std::bit_cast<float>(s.maxDensity);
     if (s.failure & kFailNonFinite) add("non-finite velocity, acceleration or density (NaN/Inf)");
     if (s.failure & kFailSpeed)
-      add(fmt::format("speed {:.4g} m/s above health.max_speed {:.4g}", std::sqrt(v2),
-                      scene_.health.maxSpeed));
+      add(fmt::format("speed {:.4g} m/s above health.max_speed {:.4g}{}", std::sqrt(v2),
+                      scene_.health.maxSpeed, whereFastest()));
     if (s.failure & kFailDensity)
       add(fmt::format("density {:.5g} kg/m^3 above health.max_density_ratio {} x rest density{}", rho,
                       scene_.health.maxDensityRatio, whereDensest()));
@@ -340,20 +340,8 @@ void Simulator::checkHealth(const SimState& s) const {
                                         frame_, s.substeps, s.healthCount[k], what[k], s.healthFirst[k]));
 }
 
-// Where the densest particle of the failed substep is: its position and the nearest wall of the domain
-// (the stops measured so far compressed against a wall, docs/validation.md "Known limits"). Read back only on
-// failure; the density and sorted positions are those of the substep that failed (its later passes did not
-// run).
-std::string Simulator::whereDensest() const {
-  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-  if (count_ == 0) return "";
-  const auto rho = density_.downloadVector<std::array<float, 2>>(count_);
-  const auto pos = pos_.downloadVector<std::array<float, 4>>(count_);
-  uint32_t densest = 0;
-  for (uint32_t i = 1; i < count_; ++i)
-    // A NaN density is never chosen (the non-finite check reports it), nor kept if particle 0 has one.
-    if (std::isfinite(rho[i][0]) && !(rho[i][0] <= rho[densest][0])) densest = i;
-  const auto& x = pos[densest];
+// Where a particle is: its position and the nearest wall of the domain.
+std::string Simulator::placeOf(const std::array<float, 4>& x) const {
   static const char* face[3][2] = {{"x-min", "x-max"}, {"y-min", "y-max"}, {"z-min", "z-max"}};
   double nearest = std::numeric_limits<double>::infinity();
   const char* name = nullptr;
@@ -370,6 +358,37 @@ std::string Simulator::whereDensest() const {
   if (name)
     where += fmt::format(", {:.2f} spacings from the domain's {} wall", nearest / scene_.fluid.spacing, name);
   return where;
+}
+
+// Where the densest particle of the failed substep is (the stops measured so far compressed against a
+// wall, docs/validation.md "Known limits"). Read back only on failure; the density and sorted positions
+// are those of the substep that failed (its later passes did not run).
+std::string Simulator::whereDensest() const {
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+  if (count_ == 0) return "";
+  const auto rho = density_.downloadVector<std::array<float, 2>>(count_);
+  const auto pos = pos_.downloadVector<std::array<float, 4>>(count_);
+  uint32_t densest = 0;
+  for (uint32_t i = 1; i < count_; ++i)
+    // A NaN density is never chosen (the non-finite check reports it), nor kept if particle 0 has one.
+    if (std::isfinite(rho[i][0]) && !(rho[i][0] <= rho[densest][0])) densest = i;
+  return placeOf(pos[densest]);
+}
+
+// Where the fastest particle of the failed substep is, with its own speed: the velocities as the failed
+// substep left them (its integration did not run), beside the sorted positions.
+std::string Simulator::whereFastest() const {
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+  if (count_ == 0) return "";
+  const auto vel = vel_.downloadVector<std::array<float, 4>>(count_);
+  const auto pos = pos_.downloadVector<std::array<float, 4>>(count_);
+  auto speed2 = [&](uint32_t i) {
+    return vel[i][0] * vel[i][0] + vel[i][1] * vel[i][1] + vel[i][2] * vel[i][2];
+  };
+  uint32_t fastest = 0;
+  for (uint32_t i = 1; i < count_; ++i)
+    if (std::isfinite(speed2(i)) && !(speed2(i) <= speed2(fastest))) fastest = i;
+  return fmt::format(" (fastest particle {:.4g} m/s{})", std::sqrt(speed2(fastest)), placeOf(pos[fastest]));
 }
 
 SimulatorState Simulator::downloadState(const GpuBuffer& position, const GpuBuffer& velocity) const {

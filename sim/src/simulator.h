@@ -85,7 +85,9 @@ class Simulator {
   bool cachesDensity() const;
   SimulatorState downloadState(const GpuBuffer& position, const GpuBuffer& velocity) const;
   void checkHealth(const SimState& s) const;
+  std::string placeOf(const std::array<float, 4>& x) const;
   std::string whereDensest() const;
+  std::string whereFastest() const;
   // A scene whose particle count changes (Scene::changesParticleCount()).
   void setUpDynamic();
   void bindDynamic() const;

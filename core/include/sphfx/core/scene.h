@@ -79,6 +79,7 @@ struct Fluid {
   ViscosityModel viscosityModel = ViscosityModel::Artificial;
   double viscosity = 0;            ///< kinematic viscosity (m^2/s), laplacian model
   double artificialViscosity = 0;  ///< Monaghan alpha, artificial model
+  double wallViscosityFactor = 1;  ///< viscosity between fluid and walls/colliders: 1 no slip, 0 free slip
   std::vector<FluidBlock> blocks;
 };
 
@@ -147,11 +148,11 @@ struct Collider {
   Vec3d max{};
   Vec3d center{};
   double radius = 0;
-  std::string file;     ///< mesh (OBJ, PLY, STL) or vdb file; absolute once loaded (loadScene)
-  std::string grid;     ///< vdb: name of the level-set grid; empty: the first float grid
-  double scale = 1;     ///< mesh/vdb: uniform scale (keeps distances distances)
-  Vec3d rotation{};     ///< mesh/vdb: degrees about x, then y, then z
-  Vec3d translation{};  ///< mesh/vdb
+  std::string file;      ///< mesh (OBJ, PLY, STL) or vdb file; absolute once loaded (loadScene)
+  std::string grid;      ///< vdb: name of the level-set grid; empty: the first float grid
+  double scale = 1;      ///< mesh/vdb: uniform scale (keeps distances distances)
+  Vec3d rotation{};      ///< mesh/vdb: degrees about x, then y, then z
+  Vec3d translation{};   ///< mesh/vdb
   double thickness = 0;  ///< mesh: shell thickness for a mesh that is not closed; 0: must be closed
   std::vector<Keyframe> keyframes;
   /// True for shapes described by a signed distance field (mesh, vdb).
@@ -163,10 +164,10 @@ struct Collider {
 struct Emitter {
   std::string name;
   EmitterShape shape = EmitterShape::Disc;
-  Vec3d center{};  ///< disc, sphere
-  double radius = 0;  ///< disc, sphere
-  Vec3d min{};  ///< box
-  Vec3d max{};  ///< box
+  Vec3d center{};             ///< disc, sphere
+  double radius = 0;          ///< disc, sphere
+  Vec3d min{};                ///< box
+  Vec3d max{};                ///< box
   Vec3d direction{0, -1, 0};  ///< unit vector (normalised on load)
   double speed = 0;           ///< m/s along direction; also the emitted particles' velocity
   double start = 0;           ///< s
