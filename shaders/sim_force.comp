@@ -1,8 +1,8 @@
 // WCSPH pass 3: accelerations. Symmetric pressure force with the scene kernel's gradient (sphGradW),
 // Akinci 2012 boundary samples of volume psi_b with their own pressure (sim_boundary_pressure.comp: the
 // same pair term as between particles, so the walls conserve energy) and their viscosity
-// (SIM_WALL_VISCOSITY), viscosity (VISCOSITY_LAPLACIAN: Mueller et al. 2003; VISCOSITY_ARTIFICIAL: Monaghan), gravity. Reduces max |v|^2
-// and |a|^2 for the CFL step.
+// (SIM_WALL_VISCOSITY), viscosity (VISCOSITY_LAPLACIAN: Mueller et al. 2003; VISCOSITY_ARTIFICIAL:
+// Monaghan), gravity. Reduces max |v|^2 and |a|^2 for the CFL step.
 #include "sph_params.glsl"
 #include "sph_neighbors.glsl"
 layout(local_size_x = SIM_WG) in;
