@@ -28,21 +28,8 @@ run() {
   front=-
   if [ "$(basename "$scene")" = dam_break.json ]; then
     "$build/bench/dam_front" "$shot" 0.01 > "$shot.front"
-    front=$(python3 - "$shot.front" <<'PY'
-import csv, math, sys
-ref = [(float(r["T"]), float(r["Z"])) for r in
-       csv.DictReader(l for l in open("studies/reference/dam_break_martin_moyce_n2.csv") if not l.startswith("#"))]
-a, g, errors = 0.2, 9.81, []
-for line in open(sys.argv[1]):
-    _, t, x = line.split()
-    T = float(t) * math.sqrt(2 * g / a)
-    for (t0, z0), (t1, z1) in zip(ref, ref[1:]):
-        if t0 <= T <= t1 and T <= 3:
-            z = z0 + (z1 - z0) * (T - t0) / (t1 - t0)
-            errors.append((float(x) / a - z) / z)
-print(f"{100 * math.sqrt(sum(e * e for e in errors) / len(errors)):.2f}")
-PY
-)
+    front=$(python3 bench/front_rms.py "$shot.front" studies/reference/dam_break_martin_moyce_n2.csv \
+      --a 0.2 --n2 2 --max-T 3 | cut -d' ' -f1)
   fi
   wall=$(python3 -c "print(f'{$end - $start:.2f}')")
   echo "$label $(basename "$scene" .json) $round $wall $front" | tee -a "$out/runs"

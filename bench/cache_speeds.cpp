@@ -5,7 +5,7 @@
 // on health.max_density_ratio compresses (docs/validation.md, "Known limits"). With --near-walls the number
 // of particles within 0.1 and 0.25 spacings of the domain's walls (the shot's manifest.json gives the domain;
 // a resting first layer sits at 0.5 spacings): how deep the fluid is pressed into the walls
-// (docs/design.md, "Boundaries").
+// (docs/design.md, "Boundaries"), and the five closest particles with their wall.
 //   cache_speeds SHOT FRAME... [--top N] [--densest N] [--near-walls]
 #include <algorithm>
 #include <array>
@@ -87,6 +87,14 @@ void reportNearWalls(const sphfx::Domain& w, const sphfx::ParticleFrame& f) {
   };
   line("0.1", within01);
   line("0.25", within025);
+  // The closest few, with where they are: which wall, and whether at a face, an edge or a corner.
+  const std::vector<size_t> closest = largest(
+      f.size(), 5, [&](size_t i) { return -nearestWall(w, f.position[i], f.particleSpacing).second; });
+  for (size_t i : closest) {
+    const auto [wall, d] = nearestWall(w, f.position[i], f.particleSpacing);
+    std::printf("  %s", names[wall]);
+    printParticle("spacings", float(d), f, i);
+  }
 }
 
 void report(const std::string& shot, int frameNumber, size_t top, size_t densest,

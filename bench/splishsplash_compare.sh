@@ -21,7 +21,7 @@ peer_scene=$peer/scenes/DamBreakModel_r0125_1s.json
 reference=studies/reference/dam_break_martin_moyce_n1.csv
 spacing=$(python3 -c "import json; print(json.load(open('$scene'))['fluid']['spacing'])")
 mkdir -p "$out"
-rm -f "$out/wall"
+rm -f "$out/wall" "$out/front"
 # Computes the volume map the peer caches next to its scene once, outside the timed runs.
 [ -d "$peer/scenes/Cache" ] || "$peer/run.sh" "$peer_scene" "$out/peer_warmup" > /dev/null
 
@@ -45,39 +45,26 @@ while [ "$round" -le "$rounds" ]; do
   round=$((round + 1))
 done
 
-python3 - "$out" "$reference" "$rounds" <<'PY'
-import csv, math, os, statistics, sys
-out, reference, rounds = sys.argv[1], sys.argv[2], int(sys.argv[3])
-ref = [(float(r["T"]), float(r["Z"])) for r in csv.DictReader(l for l in open(reference) if not l.startswith("#"))]
-a, back, g = 1.0, -1.95, 9.81
-
-def interpolate(T):
-    for (t0, z0), (t1, z1) in zip(ref, ref[1:]):
-        if t0 <= T <= t1:
-            return z0 + (z1 - z0) * (T - t0) / (t1 - t0)
-    return None
-
-def front_rms(path):
-    errors = []
-    for line in open(path):
-        _, t, x = line.split()
-        T = float(t) * math.sqrt(g / a)
-        z = interpolate(T)
-        if z is not None:
-            errors.append(((float(x) - back) / a - z) / z)
-    return math.sqrt(sum(e * e for e in errors) / len(errors)), len(errors)
-
+for round in $(seq "$rounds"); do
+  for name in sphfx peer; do
+    set -- $(python3 bench/front_rms.py "$out/$name.$round.front" "$reference" --a 1 --n2 1 --back -1.95)
+    echo "$name.$round $1" >> "$out/front"
+  done
+done
+python3 - "$out" "$rounds" <<'PY'
+import os, statistics, sys
+out, rounds = sys.argv[1], int(sys.argv[2])
 wall = dict(line.split() for line in open(os.path.join(out, "wall")))
+front = {k: float(v) for k, v in (line.split() for line in open(os.path.join(out, "front")))}
 rows = {"sphfx": [], "peer": []}
 for r in range(1, rounds + 1):
     for name in rows:
-        rms, n = front_rms(os.path.join(out, f"{name}.{r}.front"))
-        rows[name].append((float(wall[f"{name}.{r}"]), rms))
-        print(f"{name}.{r}: wall {wall[f'{name}.{r}']} s, front RMS {100 * rms:.2f} % ({n} frames)")
+        rows[name].append((float(wall[f"{name}.{r}"]), front[f"{name}.{r}"]))
+        print(f"{name}.{r}: wall {wall[f'{name}.{r}']} s, front RMS {front[f'{name}.{r}']:.2f} %")
 ratios = [p[0] / s[0] for s, p in zip(rows["sphfx"], rows["peer"])]
 print(f"speed (peer wall / sphfx wall) per round: {', '.join(f'{x:.3f}' for x in ratios)}; "
       f"median {statistics.median(ratios):.3f}")
 for name, runs in rows.items():
     print(f"{name}: median wall {statistics.median(w for w, _ in runs):.2f} s, "
-          f"front RMS {100 * statistics.median(e for _, e in runs):.2f} %")
+          f"front RMS {statistics.median(e for _, e in runs):.2f} %")
 PY
