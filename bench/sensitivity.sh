@@ -14,7 +14,7 @@ mkdir -p "$out"
 run() {
   name=$1
   shift
-  rm -rf "$out/$name"
+  rm -rf "${out:?}/$name"
   start=$(date +%s.%N)
   # shellcheck disable=SC2086 # $common is a list of options
   "$build/cli/sphfx" -q simulate "$scene" -o "$out/$name" $common "$@"

@@ -47,8 +47,8 @@ done
 
 for round in $(seq "$rounds"); do
   for name in sphfx peer; do
-    set -- $(python3 bench/front_rms.py "$out/$name.$round.front" "$reference" --a 1 --n2 1 --back -1.95)
-    echo "$name.$round $1" >> "$out/front"
+    rms=$(python3 bench/front_rms.py "$out/$name.$round.front" "$reference" --a 1 --n2 1 --back -1.95)
+    echo "$name.$round ${rms%% *}" >> "$out/front"
   done
 done
 python3 - "$out" "$rounds" <<'PY'
