@@ -2,7 +2,10 @@
 # Sensitivity of the dam-break front to the stabilising parameters: each one halved and doubled around
 # its default, one at a time, for both solvers, on studies/scenes/dam_break.json (a = 0.2 m, s = a/20,
 # 0.6 s). Prints each variant's largest relative change of the front position against the default run
-# (frames from t = 0.1 s), and the wall time of each run.
+# (frames from t = 0.1 s), and the wall time of each run; a variant that stops is reported as stopped.
+# The parameters: Monaghan's alpha, WCSPH's speed of sound, the walls' share of the viscosity
+# (fluid.wall_viscosity_factor; left out when the common options set it), DFSPH's density tolerance and
+# its walls' push (1.5; its range ends, 1 and 1.75, instead: x 2 diverges).
 #
 #   sh bench/sensitivity.sh [BUILD_DIR] [OUT_DIR] ["--set KEY=VALUE ..." applied to every run]
 set -eu
@@ -16,22 +19,38 @@ run() {
   shift
   rm -rf "${out:?}/$name"
   start=$(date +%s.%N)
+  rm -f "$out/$name.front"
   # shellcheck disable=SC2086 # $common is a list of options
-  "$build/cli/sphfx" -q simulate "$scene" -o "$out/$name" $common "$@"
+  if "$build/cli/sphfx" -q simulate "$scene" -o "$out/$name" $common "$@"; then
+    "$build/bench/dam_front" "$out/$name" 0.01 > "$out/$name.front"
+  fi
   end=$(date +%s.%N)
-  "$build/bench/dam_front" "$out/$name" 0.01 > "$out/$name.front"
   echo "$name: $(python3 -c "print(f'{$end - $start:.1f}')") s"
 }
+case "$common" in
+  *wall_viscosity_factor*) wall_factor=no ;;
+  *) wall_factor=yes ;;
+esac
 run wcsph
 run wcsph_alpha_0.01 --set fluid.artificial_viscosity=0.01
 run wcsph_alpha_0.04 --set fluid.artificial_viscosity=0.04
 run wcsph_c_12.5 --set solver.speed_of_sound=12.5
 run wcsph_c_50 --set solver.speed_of_sound=50
+if [ "$wall_factor" = yes ]; then
+  run wcsph_wallvisc_0.5 --set fluid.wall_viscosity_factor=0.5
+  run wcsph_wallvisc_2 --set fluid.wall_viscosity_factor=2
+fi
 run dfsph --set solver.method=dfsph
 run dfsph_alpha_0.01 --set solver.method=dfsph --set fluid.artificial_viscosity=0.01
 run dfsph_alpha_0.04 --set solver.method=dfsph --set fluid.artificial_viscosity=0.04
 run dfsph_error_0.0005 --set solver.method=dfsph --set solver.dfsph.max_density_error=0.0005
 run dfsph_error_0.002 --set solver.method=dfsph --set solver.dfsph.max_density_error=0.002
+run dfsph_wallpush_1 --set solver.method=dfsph --set solver.dfsph.density_wall_push=1
+run dfsph_wallpush_1.75 --set solver.method=dfsph --set solver.dfsph.density_wall_push=1.75
+if [ "$wall_factor" = yes ]; then
+  run dfsph_wallvisc_0.5 --set solver.method=dfsph --set fluid.wall_viscosity_factor=0.5
+  run dfsph_wallvisc_2 --set solver.method=dfsph --set fluid.wall_viscosity_factor=2
+fi
 python3 - "$out" <<'PY'
 import glob, os, sys
 out = sys.argv[1]
@@ -40,8 +59,13 @@ def load(name):
     return {int(f): (float(t), float(x)) for f, t, x in rows}
 for base in ("wcsph", "dfsph"):
     ref = load(base)
-    for path in sorted(glob.glob(os.path.join(out, base + "_*.front"))):
-        name = os.path.basename(path)[:-6]
+    for path in sorted(glob.glob(os.path.join(out, base + "_*")), key=os.path.basename):
+        name = os.path.basename(path)
+        if not os.path.isdir(path):
+            continue
+        if not os.path.exists(path + ".front"):
+            print(f"{name}: stopped (its error is above)")
+            continue
         run = load(name)
         worst, when = max((abs(run[f][1] - x) / x, t) for f, (t, x) in ref.items() if t >= 0.1 and f in run)
         print(f"{name}: largest front change {100 * worst:.2f} % (t = {when:.3f} s)")
