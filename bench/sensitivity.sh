@@ -3,9 +3,9 @@
 # its default, one at a time, for both solvers, on studies/scenes/dam_break.json (a = 0.2 m, s = a/20,
 # 0.6 s). Prints each variant's largest relative change of the front position against the default run
 # (frames from t = 0.1 s), and the wall time of each run; a variant that stops is reported as stopped.
-# The parameters: Monaghan's alpha, WCSPH's speed of sound, the walls' share of the viscosity
-# (fluid.wall_viscosity_factor; left out when the common options set it), DFSPH's density tolerance and
-# its walls' push (1.5; its range ends, 1 and 1.75, instead: x 2 diverges).
+# The parameters: Monaghan's alpha, the speed of sound (WCSPH's EOS; both solvers' viscosity), the
+# walls' share of the viscosity (fluid.wall_viscosity_factor; left out when the common options set it),
+# DFSPH's density tolerance and its walls' push (1.5; its range ends, 1 and 1.75, instead: x 2 diverges).
 #
 #   sh bench/sensitivity.sh [BUILD_DIR] [OUT_DIR] ["--set KEY=VALUE ..." applied to every run]
 set -eu
@@ -43,6 +43,8 @@ fi
 run dfsph --set solver.method=dfsph
 run dfsph_alpha_0.01 --set solver.method=dfsph --set fluid.artificial_viscosity=0.01
 run dfsph_alpha_0.04 --set solver.method=dfsph --set fluid.artificial_viscosity=0.04
+run dfsph_c_12.5 --set solver.method=dfsph --set solver.speed_of_sound=12.5
+run dfsph_c_50 --set solver.method=dfsph --set solver.speed_of_sound=50
 run dfsph_error_0.0005 --set solver.method=dfsph --set solver.dfsph.max_density_error=0.0005
 run dfsph_error_0.002 --set solver.method=dfsph --set solver.dfsph.max_density_error=0.002
 run dfsph_wallpush_1 --set solver.method=dfsph --set solver.dfsph.density_wall_push=1
