@@ -225,8 +225,8 @@ std::shared_ptr<const Object<DfsphSettings>> dfsphSchema() {
         .number("density_wall_push", &DfsphSettings::densityWallPush, 1.5, "", Range::closed(1, 1.75),
                 "Weight of the wall samples in the constant-density solve: above 1 walls push back harder "
                 "than fluid, which keeps particles out of them. Above 1 the solve is not symmetric: in a "
-                "domain 6 particles deep the first frame gains 0.7 % of g H at 1.75, 13 % at 1.9, and "
-                "2.5 diverges.")
+                "domain 6 particles across the first frame gains 0.7 % of g H at 1.75, 12.5 % at 1.9, "
+                "and 2.5 diverges (docs/design.md).")
         .number("free_surface_fraction", &DfsphSettings::freeSurfaceFraction, 0.6, "", Range::closed(0, 1),
                 "A particle with fewer neighbours than this share of a full lattice neighbourhood is at "
                 "the free surface and gets no divergence correction (SPlisHSPlasH: 20 of 32).")
