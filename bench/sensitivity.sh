@@ -4,8 +4,10 @@
 # 0.6 s). Prints each variant's largest relative change of the front position against the default run
 # (frames from t = 0.1 s), and the wall time of each run; a variant that stops is reported as stopped.
 # The parameters: Monaghan's alpha, the speed of sound (WCSPH's EOS; both solvers' viscosity), the
-# walls' share of the viscosity (fluid.wall_viscosity_factor; left out when the common options set it),
-# DFSPH's density tolerance and its walls' push (1.5; its range ends, 1 and 1.75, instead: x 2 diverges).
+# walls' drag (fluid.wall_viscosity_factor, which multiplies fluid.wall_viscosity_speed; left out when
+# the common options set it), the time step's factors (time.cfl_factor; WCSPH's force factor, DFSPH's
+# fall factor), DFSPH's density tolerance and its walls' push (1.5; its range ends, 1 and 1.75, instead:
+# x 2 diverges).
 #
 #   sh bench/sensitivity.sh [BUILD_DIR] [OUT_DIR] ["--set KEY=VALUE ..." applied to every run]
 set -eu
@@ -36,6 +38,10 @@ run wcsph_alpha_0.01 --set fluid.artificial_viscosity=0.01
 run wcsph_alpha_0.04 --set fluid.artificial_viscosity=0.04
 run wcsph_c_12.5 --set solver.speed_of_sound=12.5
 run wcsph_c_50 --set solver.speed_of_sound=50
+run wcsph_cfl_0.2 --set time.cfl_factor=0.2
+run wcsph_cfl_0.8 --set time.cfl_factor=0.8
+run wcsph_force_0.125 --set solver.wcsph.force_factor=0.125
+run wcsph_force_0.5 --set solver.wcsph.force_factor=0.5
 if [ "$wall_factor" = yes ]; then
   run wcsph_wallvisc_0.5 --set fluid.wall_viscosity_factor=0.5
   run wcsph_wallvisc_2 --set fluid.wall_viscosity_factor=2
@@ -45,6 +51,10 @@ run dfsph_alpha_0.01 --set solver.method=dfsph --set fluid.artificial_viscosity=
 run dfsph_alpha_0.04 --set solver.method=dfsph --set fluid.artificial_viscosity=0.04
 run dfsph_c_12.5 --set solver.method=dfsph --set solver.speed_of_sound=12.5
 run dfsph_c_50 --set solver.method=dfsph --set solver.speed_of_sound=50
+run dfsph_cfl_0.2 --set solver.method=dfsph --set time.cfl_factor=0.2
+run dfsph_cfl_0.8 --set solver.method=dfsph --set time.cfl_factor=0.8
+run dfsph_fall_0.075 --set solver.method=dfsph --set solver.dfsph.fall_factor=0.075
+run dfsph_fall_0.3 --set solver.method=dfsph --set solver.dfsph.fall_factor=0.3
 run dfsph_error_0.0005 --set solver.method=dfsph --set solver.dfsph.max_density_error=0.0005
 run dfsph_error_0.002 --set solver.method=dfsph --set solver.dfsph.max_density_error=0.002
 run dfsph_wallpush_1 --set solver.method=dfsph --set solver.dfsph.density_wall_push=1

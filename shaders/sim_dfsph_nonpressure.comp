@@ -70,7 +70,7 @@ void viscosityAndWarmPressure(uint i, vec3 xi, vec3 vi, float rhoi, float pi, ou
 #endif
     }
   SPH_END_FOR_EACH_CELL_RANGE
-  wall *= simViscosity.w;  // fluid.wall_viscosity_factor
+  wall *= simViscosity.w;  // the walls' term over the fluid's (Scene::wallViscosityMultiple)
 #endif
   visc = fluid + wall;
   pressure = push;

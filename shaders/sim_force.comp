@@ -77,6 +77,7 @@ vec3 boundaryTerm(uint j, vec3 xi, vec3 vi, float rhoi, float dpi) {
     // The wall sample's own p_b / rho_b^2 (never negative: no wall suction).
     float coef = dpi + boundaryPressure[j];
 #if defined(SIM_WALL_VISCOSITY) && defined(VISCOSITY_ARTIFICIAL)
+    // Monaghan's term with fluid.wall_viscosity_speed times wall_viscosity_factor in place of alpha c.
     coef += simViscosity.w * artificialViscosity(vi - bvel[j].xyz, d, r2, 2.0 * rhoi);
 #elif defined(SIM_WALL_VISCOSITY) && defined(VISCOSITY_LAPLACIAN)
     // As a fluid neighbour of mass psi_b and density rho_b = rho_i at the wall's velocity (no slip), times

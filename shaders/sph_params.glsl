@@ -13,7 +13,8 @@ layout(std140, binding = SPHFX_UBO_SIM_PARAMS) uniform SimParams {
                        // factor, w: h^2
   vec4 simFluid;       // x: rest density, y: EOS stiffness (linear k or Tait B), z: gamma, w: speed of sound
   vec4 simViscosity;   // x: kinematic viscosity, y: Monaghan alpha, z: wall clamp margin,
-                       // w: wall viscosity factor (SIM_WALL_VISCOSITY)
+                       // w: the walls' viscosity term over the fluid's (Scene::wallViscosityMultiple;
+                       //    SIM_WALL_VISCOSITY)
   vec4 simStep;        // x: CFL factor, y: viscous factor, z: force (WCSPH) or fall (DFSPH) factor,
                        // w: fixed dt (0: CFL)
   vec4 simLimits;      // x: dt_min, y: dt_max, z: health max density, w: health max speed

@@ -149,17 +149,24 @@ std::shared_ptr<const Object<Fluid>> fluidSchema() {
                 "Monaghan alpha for the artificial model: nu = 2 alpha h c / (rho_i + rho_j).")
         .onlyWhen([](const Fluid& f) { return f.viscosityModel == ViscosityModel::Artificial; },
                   "artificial model")
-        .number(
-            "wall_viscosity_factor", &Fluid::wallViscosityFactor, 1.0, "", Range::closed(0, 10),
-            "Multiplies the viscosity term between the fluid and the walls and colliders (DualSPHysics' "
-            "ViscoBoundFactor): 1 treats a wall sample as fluid at the wall's velocity (no slip), 0 makes "
-            "the walls free-slip (SPlisHSPlasH's default boundary viscosity) and compiles no wall "
-            "viscosity. Free slip takes the walls' drag out of the front's dependence on the artificial "
-            "viscosity (doubling alpha moves the dam-break front 1.7 % instead of 7.0 %), but the front "
-            "then leads Martin & Moyce's further and more splashes pass the stability suite's wall and "
-            "speed bounds (docs/validation.md, Sensitivity).")
+        .number("wall_viscosity_factor", &Fluid::wallViscosityFactor, 1.0, "", Range::closed(0, 10),
+                "Multiplies the viscosity term between the fluid and the walls and colliders (DualSPHysics' "
+                "ViscoBoundFactor): 1 treats a wall sample as fluid at the wall's velocity (no slip), 0 "
+                "makes the walls free-slip (SPlisHSPlasH's default boundary viscosity) and compiles no wall "
+                "viscosity. Free slip lets the dam-break front lead Martin & Moyce's further, and more "
+                "splashes pass the stability suite's wall and speed bounds (docs/validation.md, "
+                "Sensitivity).")
         .onlyWhen([](const Fluid& f) { return f.viscosityModel != ViscosityModel::None; },
                   "laplacian or artificial model")
+        .number("wall_viscosity_speed", &Fluid::wallViscositySpeed, 0.6, "m/s", Range::closed(0, 1000),
+                "The artificial model's alpha c at the walls and colliders: their Monaghan term uses this "
+                "speed times wall_viscosity_factor where the fluid's uses artificial_viscosity times the "
+                "speed of sound. The walls' drag sets how fast a surge runs along the floor; apart from "
+                "alpha and c, which stabilise the bulk, it stays put when those are tuned: halving or "
+                "doubling either moves the dam-break front by at most 2.47 % (docs/validation.md, "
+                "Sensitivity). The default is their defaults' product, 0.02 x 30 m/s.")
+        .onlyWhen([](const Fluid& f) { return f.viscosityModel == ViscosityModel::Artificial; },
+                  "artificial model")
         .list("blocks", &Fluid::blocks, fluidBlockSchema(), 0, kUnbounded,
               "Blocks of fluid at the first frame (boxes or spheres, must not overlap); may be empty when "
               "the scene has emitters.");
@@ -631,6 +638,19 @@ void checkSceneGeometry(const Scene& s, const Json&, const std::string&) {
                                   s.fluid.spacing, n, kMaxParticles));
 }
 
+/// The artificial model's walls: their term is the fluid's Monaghan term rescaled (Scene::
+/// wallViscosityMultiple), so walls with a viscosity need a fluid one.
+void checkWallViscosity(const Scene& s, const Json&, const std::string&) {
+  const Fluid& f = s.fluid;
+  if (f.viscosityModel != ViscosityModel::Artificial || f.wallViscosityFactor * f.wallViscositySpeed == 0)
+    return;
+  if (f.artificialViscosity * s.soundSpeed() == 0)
+    throw SchemaError("/fluid/artificial_viscosity",
+                      "expected a number > 0 while the walls have an artificial viscosity "
+                      "(wall_viscosity_factor and wall_viscosity_speed > 0); for an inviscid fluid set "
+                      "viscosity_model \"none\" or wall_viscosity_factor 0");
+}
+
 /// Periodic axes: what the solvers and the seam need (see the "periodic" description).
 void checkPeriodic(const Scene& s, const Json&, const std::string&) {
   for (size_t i = 0; i < s.fluid.blocks.size(); ++i)
@@ -752,6 +772,7 @@ std::shared_ptr<const Object<Scene>> buildSceneSchema() {
         .child("render", &Scene::render, renderSchema(), "Render defaults.")
         .check([](const Scene& s, const Json& raw, const std::string& path) {
           checkSceneGeometry(s, raw, path);
+          checkWallViscosity(s, raw, path);
           checkPeriodic(s, raw, path);
           checkEmittersAndRemoval(s, raw, path);
         });
@@ -811,6 +832,25 @@ Vec3d taylorGreenVelocity(const Domain& d, double U, const Vec3d& p) {
 
 bool Scene::hasCacheAttribute(CacheAttribute a) const {
   return std::find(cache.attributes.begin(), cache.attributes.end(), a) != cache.attributes.end();
+}
+
+double Scene::soundSpeed() const {
+  return solver.wcsph.eos == EquationOfState::Tait ? solver.speedOfSound : std::sqrt(solver.wcsph.stiffness);
+}
+
+double Scene::wallViscosityMultiple() const {
+  switch (fluid.viscosityModel) {
+    case ViscosityModel::Laplacian:
+      return fluid.wallViscosityFactor;
+    case ViscosityModel::Artificial: {
+      const double fluidSpeed = fluid.artificialViscosity * soundSpeed();
+      const double wallSpeed = fluid.wallViscosityFactor * fluid.wallViscositySpeed;
+      return wallSpeed > 0 && fluidSpeed > 0 ? wallSpeed / fluidSpeed : 0.0;
+    }
+    case ViscosityModel::None:
+      break;
+  }
+  return 0.0;
 }
 
 const Object<Scene>& sceneSchema() {
@@ -999,7 +1039,7 @@ const std::vector<Selector>& selectors() {
        "viscosity_model",
        {{"none", {}},
         {"laplacian", {"viscosity", "wall_viscosity_factor"}},
-        {"artificial", {"artificial_viscosity", "wall_viscosity_factor"}}}},
+        {"artificial", {"artificial_viscosity", "wall_viscosity_factor", "wall_viscosity_speed"}}}},
       {{"solver", "wcsph"}, "eos", {{"linear", {"stiffness"}}, {"tait", {"gamma"}}}},
   };
   return all;
@@ -1138,6 +1178,11 @@ Json sceneIdentityJson(const Scene& scene) {
   if (scene.limits.maxParticles == int(kMaxParticles)) j.erase("limits");
   if (j["fluid"].contains("wall_viscosity_factor") && scene.fluid.wallViscosityFactor == 1.0)
     j["fluid"].erase("wall_viscosity_factor");  // the walls' viscosity before the factor existed
+  const Fluid& f = scene.fluid;
+  const double fluidSpeed = f.artificialViscosity * scene.soundSpeed();
+  if (j["fluid"].contains("wall_viscosity_speed") &&
+      std::fabs(f.wallViscositySpeed - fluidSpeed) <= 1e-12 * fluidSpeed)
+    j["fluid"].erase("wall_viscosity_speed");  // the fluid's alpha c: the runs of caches without the key
   for (Json& c : j["colliders"])
     for (Json& k : c["keyframes"])
       if (k.contains("rotation") && k["rotation"] == Json::array({0, 0, 0})) k.erase("rotation");

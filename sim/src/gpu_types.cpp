@@ -78,11 +78,6 @@ double clampMargin(const Scene& scene) {
   return 0.05 * scene.fluid.spacing;
 }
 
-double speedOfSound(const Scene& scene) {
-  return scene.solver.wcsph.eos == EquationOfState::Tait ? scene.solver.speedOfSound
-                                                         : std::sqrt(scene.solver.wcsph.stiffness);
-}
-
 namespace {
 void set4(float* dst, const Vec3d& v, double w) {
   for (int a = 0; a < 3; ++a) dst[a] = float(v[a]);
@@ -108,7 +103,7 @@ SimParams makeSimParams(const Scene& scene, uint32_t particles, uint32_t boundar
   p.kernel[1] = float(usesWendland(scene) ? w.gradient : k.spikyGradient);
   p.kernel[2] = float(k.viscosityLaplacian);
   p.kernel[3] = float(h * h);
-  const double rho0 = scene.fluid.restDensity, c = speedOfSound(scene);
+  const double rho0 = scene.fluid.restDensity, c = scene.soundSpeed();
   const WcsphSettings& wcsph = scene.solver.wcsph;
   const bool tait = wcsph.eos == EquationOfState::Tait;
   p.fluid[0] = float(rho0);
@@ -118,7 +113,7 @@ SimParams makeSimParams(const Scene& scene, uint32_t particles, uint32_t boundar
   p.viscosity[0] = float(scene.fluid.viscosity);
   p.viscosity[1] = float(scene.fluid.artificialViscosity);
   p.viscosity[2] = float(clampMargin(scene));
-  p.viscosity[3] = float(scene.fluid.wallViscosityFactor);
+  p.viscosity[3] = float(scene.wallViscosityMultiple());
   const bool fixed = scene.time.mode == TimeStepMode::Fixed;
   p.step[0] = float(scene.time.cflFactor);
   p.step[1] = float(scene.time.viscousFactor);
@@ -143,8 +138,7 @@ ShaderDefines simShaderDefines(const Scene& scene) {
   d.set(scene.solver.wcsph.eos == EquationOfState::Tait ? "EOS_TAIT" : "EOS_LINEAR");
   if (scene.fluid.viscosityModel == ViscosityModel::Laplacian) d.set("VISCOSITY_LAPLACIAN");
   if (scene.fluid.viscosityModel == ViscosityModel::Artificial) d.set("VISCOSITY_ARTIFICIAL");
-  if (scene.fluid.viscosityModel != ViscosityModel::None && scene.fluid.wallViscosityFactor > 0)
-    d.set("SIM_WALL_VISCOSITY");
+  if (scene.wallViscosityMultiple() > 0) d.set("SIM_WALL_VISCOSITY");
   if (usesWendland(scene)) d.set("KERNEL_WENDLAND_C2");
   if (!scene.colliders.empty()) d.set("HAS_COLLIDERS");
   if (std::any_of(scene.colliders.begin(), scene.colliders.end(),

@@ -22,7 +22,7 @@ struct SimParams {
   float kernel[4];  ///< density and gradient kernel factors (poly6/spiky or Wendland C2), viscosity Laplacian
                     ///< factor, h^2
   float fluid[4];   ///< rest density, EOS stiffness (k or Tait B), gamma, speed of sound
-  float viscosity[4];  ///< kinematic viscosity, Monaghan alpha, wall clamp margin, wall viscosity factor
+  float viscosity[4];  ///< kinematic viscosity, Monaghan alpha, wall clamp margin, walls' viscosity multiple
   float step[4];       ///< CFL, viscous and force factors, fixed dt (0: CFL)
   float limits[4];     ///< dt_min, dt_max, health max density, health max speed
   uint32_t counts[4];  ///< particles, boundary samples, colliders, dispatch argument entries
@@ -122,10 +122,6 @@ Scene wallSamplingScene(const Scene& scene, double wallDepth);
 
 /// Distance particles are kept inside the domain walls and outside colliders by the last-resort clamp.
 double clampMargin(const Scene& scene);
-
-/// Speed of sound used by the acoustic CFL condition and the artificial viscosity: Tait's c, or
-/// sqrt(k) for the linear EOS.
-double speedOfSound(const Scene& scene);
 
 /// The uniform block for a scene.
 SimParams makeSimParams(const Scene& scene, uint32_t particles, uint32_t boundarySamples,

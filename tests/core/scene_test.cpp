@@ -236,3 +236,49 @@ TEST(Scene, MethodEnumsAndDocsComeFromTheRegistries) {
       EXPECT_NE(doc.find("`surface." + e.parameterGroup + "`"), std::string::npos);
   }
 }
+
+// Under the artificial model the walls' Monaghan term has the speed F U_w where the fluid's has alpha c
+// (the shader scales the fluid's term by wallViscosityMultiple), whatever alpha, c and the EOS are;
+// under the laplacian model the walls' term is F times the fluid's.
+TEST(Scene, WallViscosityKeepsItsOwnSpeedWhenAlphaAndCChange) {
+  for (const char* eos : {"tait", "linear"})
+    for (double alpha : {0.01, 0.02, 0.04})
+      for (double c : {12.5, 25.0, 50.0}) {
+        Json raw = minimal();
+        raw["fluid"]["artificial_viscosity"] = alpha;
+        raw["fluid"]["wall_viscosity_factor"] = 2;
+        raw["fluid"]["wall_viscosity_speed"] = 0.5;
+        raw["solver"]["wcsph"]["eos"] = eos;
+        if (std::string(eos) == "tait")
+          raw["solver"]["speed_of_sound"] = c;
+        else
+          raw["solver"]["wcsph"]["stiffness"] = c * c;
+        const Scene s = parseScene(raw, "x.json");
+        SCOPED_TRACE(testing::Message() << eos << " alpha " << alpha << " c " << c);
+        EXPECT_NEAR(s.soundSpeed(), c, 1e-12 * c);
+        EXPECT_NEAR(s.wallViscosityMultiple() * alpha * c, 2 * 0.5, 1e-12);
+      }
+  Json laplacian = minimal();
+  laplacian["fluid"]["viscosity_model"] = "laplacian";
+  laplacian["fluid"]["wall_viscosity_factor"] = 0.5;
+  EXPECT_DOUBLE_EQ(parseScene(laplacian, "x.json").wallViscosityMultiple(), 0.5);
+  Json none = minimal();
+  none["fluid"]["viscosity_model"] = "none";
+  EXPECT_EQ(parseScene(none, "x.json").wallViscosityMultiple(), 0.0);
+  Json freeSlip = minimal();
+  freeSlip["fluid"]["wall_viscosity_speed"] = 0;
+  EXPECT_EQ(parseScene(freeSlip, "x.json").wallViscosityMultiple(), 0.0);
+}
+
+// A scene whose walls' speed is the fluid's alpha c runs as one without the key did: its identity (what
+// restart files and the committed reports' digests hold) leaves the key out; another speed is kept.
+TEST(Scene, IdentityLeavesOutAWallSpeedEqualToTheFluidsAlphaC) {
+  Json raw = minimal();
+  raw["solver"]["speed_of_sound"] = 25;
+  raw["fluid"]["wall_viscosity_speed"] = 0.5;
+  EXPECT_FALSE(sceneIdentityJson(parseScene(raw, "x.json"))["fluid"].contains("wall_viscosity_speed"));
+  raw["fluid"]["wall_viscosity_speed"] = 0.6;
+  EXPECT_EQ(sceneIdentityJson(parseScene(raw, "x.json"))["fluid"]["wall_viscosity_speed"], 0.6);
+  EXPECT_FALSE(sceneIdentityJson(parseScene(minimal(), "x.json"))["fluid"].contains("wall_viscosity_speed"))
+      << "the defaults: 0.6 m/s = 0.02 x 30 m/s";
+}

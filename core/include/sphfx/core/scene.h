@@ -80,6 +80,7 @@ struct Fluid {
   double viscosity = 0;            ///< kinematic viscosity (m^2/s), laplacian model
   double artificialViscosity = 0;  ///< Monaghan alpha, artificial model
   double wallViscosityFactor = 1;  ///< viscosity between fluid and walls/colliders: 1 no slip, 0 free slip
+  double wallViscositySpeed = 0;   ///< artificial model: the walls' alpha c (m/s), apart from the fluid's
   std::vector<FluidBlock> blocks;
 };
 
@@ -257,6 +258,14 @@ struct Scene {
   /// Simulated time of a frame number (the start frame is t = 0).
   double frameTime(int frame) const { return double(frame - time.startFrame) / time.fps; }
   bool hasCacheAttribute(CacheAttribute a) const;
+  /// Speed of sound of the equation of state (m/s), which the acoustic CFL condition and the artificial
+  /// viscosity read: solver.speed_of_sound under Tait, sqrt(stiffness) under the linear EOS.
+  double soundSpeed() const;
+  /// The walls' and colliders' viscosity term as a multiple of the fluid's (0: free slip, no wall term):
+  /// fluid.wall_viscosity_factor under the laplacian model; under the artificial model that factor times
+  /// fluid.wall_viscosity_speed over the fluid's artificial_viscosity times soundSpeed() (the scene check
+  /// rejects a fluid alpha of 0 with walls that have a viscosity of their own).
+  double wallViscosityMultiple() const;
   /// True if the particle count can change during the run (emitters, kill boxes or open faces).
   bool changesParticleCount() const { return !emitters.empty() || !kill.empty() || !domain.open.empty(); }
 };
