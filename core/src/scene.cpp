@@ -145,8 +145,10 @@ std::shared_ptr<const Object<Fluid>> fluidSchema() {
                 "Kinematic viscosity for the laplacian model (water: 1e-6).")
         .onlyWhen([](const Fluid& f) { return f.viscosityModel == ViscosityModel::Laplacian; },
                   "laplacian model")
-        .number("artificial_viscosity", &Fluid::artificialViscosity, 0.02, "", Range::closed(0, 10),
-                "Monaghan alpha for the artificial model: nu = 2 alpha h c / (rho_i + rho_j).")
+        .number(
+            "artificial_viscosity", &Fluid::artificialViscosity, 0.02, "", Range::closed(0, 10),
+            "Monaghan alpha for the artificial model: nu = 2 alpha h c / (rho_i + rho_j) between particles "
+            "(the walls use wall_viscosity_speed in place of alpha c).")
         .onlyWhen([](const Fluid& f) { return f.viscosityModel == ViscosityModel::Artificial; },
                   "artificial model")
         .number("wall_viscosity_factor", &Fluid::wallViscosityFactor, 1.0, "", Range::closed(0, 10),
