@@ -640,13 +640,18 @@ void checkSceneGeometry(const Scene& s, const Json&, const std::string&) {
                                   s.fluid.spacing, n, kMaxParticles));
 }
 
+/// The speed alpha c (m/s) of the artificial model's Monaghan term between particles.
+double fluidArtificialSpeed(const Scene& s) {
+  return s.fluid.artificialViscosity * s.soundSpeed();
+}
+
 /// The artificial model's walls: their term is the fluid's Monaghan term rescaled (Scene::
 /// wallViscosityMultiple), so walls with a viscosity need a fluid one.
 void checkWallViscosity(const Scene& s, const Json&, const std::string&) {
   const Fluid& f = s.fluid;
   if (f.viscosityModel != ViscosityModel::Artificial || f.wallViscosityFactor * f.wallViscositySpeed == 0)
     return;
-  if (f.artificialViscosity * s.soundSpeed() == 0)
+  if (fluidArtificialSpeed(s) == 0)
     throw SchemaError("/fluid/artificial_viscosity",
                       "expected a number > 0 while the walls have an artificial viscosity "
                       "(wall_viscosity_factor and wall_viscosity_speed > 0); for an inviscid fluid set "
@@ -845,7 +850,7 @@ double Scene::wallViscosityMultiple() const {
     case ViscosityModel::Laplacian:
       return fluid.wallViscosityFactor;
     case ViscosityModel::Artificial: {
-      const double fluidSpeed = fluid.artificialViscosity * soundSpeed();
+      const double fluidSpeed = fluidArtificialSpeed(*this);
       const double wallSpeed = fluid.wallViscosityFactor * fluid.wallViscositySpeed;
       return wallSpeed > 0 && fluidSpeed > 0 ? wallSpeed / fluidSpeed : 0.0;
     }
@@ -1180,10 +1185,9 @@ Json sceneIdentityJson(const Scene& scene) {
   if (scene.limits.maxParticles == int(kMaxParticles)) j.erase("limits");
   if (j["fluid"].contains("wall_viscosity_factor") && scene.fluid.wallViscosityFactor == 1.0)
     j["fluid"].erase("wall_viscosity_factor");  // the walls' viscosity before the factor existed
-  const Fluid& f = scene.fluid;
-  const double fluidSpeed = f.artificialViscosity * scene.soundSpeed();
+  const double fluidSpeed = fluidArtificialSpeed(scene);
   if (j["fluid"].contains("wall_viscosity_speed") &&
-      std::fabs(f.wallViscositySpeed - fluidSpeed) <= 1e-12 * fluidSpeed)
+      std::fabs(scene.fluid.wallViscositySpeed - fluidSpeed) <= 1e-12 * fluidSpeed)
     j["fluid"].erase("wall_viscosity_speed");  // the fluid's alpha c: the runs of caches without the key
   for (Json& c : j["colliders"])
     for (Json& k : c["keyframes"])
