@@ -1,7 +1,8 @@
 // DFSPH solver iteration, part 2: applies the stiffness increments (symmetric, Bender & Koschier 2017
 // eq. 10/12 in dt-free form): dv_i = -sum_j m (k_i + k_j) grad W_ij - c sum_b psi_b k_i grad W_ib (c = 1
 // in the divergence solve, DFSPH_DENSITY_WALL_PUSH in the constant-density solve: sph_dfsph.glsl), and
-// adds k_i to the particle's total (the warm start of the next step).
+// adds k_i to the particle's total (the warm start of the next step). Constraint walls: the
+// constant-density solve adds each wall sample's increment, -sum_b k_b psi_b grad W_ib.
 //   DFSPH_DIVERGENCE: corrects the velocities; the total goes to the per-id warm-start buffer.
 //   otherwise: corrects the predicted velocities v* (in vel since the warm pass, sim_dfsph_source.comp)
 //   by dt dv; the total, p / rho^2, goes to vel.w (carried by the state between steps); the cache's
@@ -33,6 +34,13 @@ vec3 velocityChange(uint i, float ki) {
     vec4 e = dfsphEntry(i, k);
     dv -= (ki + dfsphIncrement(floatBitsToUint(e.w))) * e.xyz;
   }
+#if defined(DFSPH_BOUNDARY_CONSTRAINTS) && !defined(DFSPH_DIVERGENCE)
+  uint walls = dfsphBoundaryCount(i);
+  for (uint k = 0u; k < walls; ++k) {
+    vec4 e = dfsphBoundaryEntry(i, k);
+    dv -= dfsphIncrement(simCounts.x + floatBitsToUint(e.w)) * e.xyz;
+  }
+#endif
   return dv;
 }
 

@@ -3,7 +3,7 @@
 // alpha_i / rho_i of both solves (Bender & Koschier 2017, eq. 9, boundary in the first sum only; gW the
 // spiky gradient; the constant-density solve's walls push DFSPH_DENSITY_WALL_PUSH times:
 // sph_dfsph.glsl), and the neighbour list every solver iteration of this substep reads. The walls'
-// hydrostatic push, -sum_b psi_b (g . (x_b - x_i) / rho_i) grad W_ib, goes to accel, to which the
+// hydrostatic push, -sum_b psi_b (g . (x_b - x_i) / rho_i) grad W_ib (push walls only), goes to accel, to which the
 // non-pressure pass adds the rest of the step's acceleration. The cache's pressure is the last step's
 // density stiffness, carried in vel.w.
 // Reduces the largest density (health).
@@ -23,7 +23,7 @@ void main() {
   barrier();
   if (live) {
     vec3 xi = sphFetchPos(i).xyz;
-    uint n = simCounts.x, listed = 0u;
+    uint n = simCounts.x, listed = 0u, blisted = 0u;
     float m = simGravity.w, fluid = 0.0, wall = 0.0, squares = 0.0, boundaryNeighbours = 0.0;
     float boundaryW = 0.0;  // dfBoundary.w (sph_dfsph.glsl)
     vec3 gradSum = vec3(0.0), wallGrad = vec3(0.0), hydrostatic = vec3(0.0);
@@ -57,10 +57,21 @@ void main() {
         boundaryW += b.w * sphViscosityLaplacian(sqrt(r2));
 #endif
         boundaryNeighbours += r2 < simKernel.w ? 1.0 : 0.0;
+#if defined(DFSPH_BOUNDARY_CONSTRAINTS)
+        // Wall entries fill the list from its last slot down (sph_dfsph.glsl), the same way.
+        dfNbr[(uint(DFSPH_MAX_NEIGHBORS) - 1u - min(blisted, uint(DFSPH_MAX_NEIGHBORS) - 1u)) * n + i] =
+            vec4(g, uintBitsToFloat(j));
+        blisted += r2 < simKernel.w ? 1u : 0u;
+#endif
       }
     SPH_END_FOR_EACH_CELL_RANGE
+#if defined(DFSPH_BOUNDARY_CONSTRAINTS)
+    if (listed + blisted >= uint(DFSPH_MAX_NEIGHBORS)) atomicOr(stateFailure, SIM_FAIL_NEIGHBORS);
+    dfCount[i] = min(listed, uint(DFSPH_MAX_NEIGHBORS)) | (min(blisted, uint(DFSPH_MAX_NEIGHBORS)) << 16u);
+#else
     if (listed > uint(DFSPH_MAX_NEIGHBORS)) atomicOr(stateFailure, SIM_FAIL_NEIGHBORS);
     dfCount[i] = min(listed, uint(DFSPH_MAX_NEIGHBORS));
+#endif
     dfBoundary[i] = vec4(wallGrad, boundaryW);
     float rho = m * fluid + wall;
     vec3 g = gradSum + wallGrad;
@@ -72,7 +83,11 @@ void main() {
     dfsph[i] = vec4(density > 1e-6 ? 1.0 / density : 0.0,
                     surface || divergence <= 1e-6 ? 0.0 : 1.0 / divergence, 0.0, 0.0);
     densityPressure[i] = vec2(rho, sphFetchVel(i).w);
+#if defined(DFSPH_BOUNDARY_CONSTRAINTS)
+    accel[i] = vec4(0.0);  // the samples' own stiffness holds the fluid up (no hydrostatic push)
+#else
     accel[i] = vec4(-hydrostatic / rho, 0.0);
+#endif
     atomicMax(groupMaxDensity, floatBitsToUint(rho));
   }
   barrier();

@@ -57,6 +57,8 @@ float dfsphWallScale(vec3 xb) {
 // the sample, which holds a resting bottom layer up against the fluid above it), plus the hydrostatic rise
 // g . (x_b - x_i) / rho_i (after Adami et al. 2012, as the WCSPH force). 1 x (Akinci 2012) lets the layer
 // sink (hydrostatic L2 0.61); 2 x diverges from rest. The divergence solve's walls push 1 x.
+// Constraint walls (solver.dfsph.walls, DFSPH_BOUNDARY_CONSTRAINTS; sim_dfsph_boundary_factor.comp):
+// the push is 1 x plus each sample's own stiffness k_b, -sum_b k_b psi_b grad W_ib, and no hydrostatic rise.
 #ifndef DFSPH_DENSITY_WALL_PUSH
 #error "DFSPH_DENSITY_WALL_PUSH: set by DFSPHSolver from solver.dfsph.density_wall_push"
 #endif
@@ -70,7 +72,7 @@ float dfsphWallScale(vec3 xb) {
 // candidate to the slot after the last neighbour); a particle with more fluid neighbours stops the run
 // with a clear error (SIM_FAIL_NEIGHBORS) rather than losing neighbours.
 //   dfNbr[k * N + i]: xyz = m grad W(x_i - x_j), w = j (uint bits)
-//   dfCount[i]: fluid neighbours of i in the list
+//   dfCount[i]: fluid neighbours of i in the list (low 16 bits; constraint walls: wall entries above)
 //   dfBoundary[i]: xyz = sum_b psi_b grad W(x_i - x_b), w = sum_b psi_b v_b . grad W(x_i - x_b)
 //     (boundary samples do not move during a substep, so their sums are constant in the solves);
 //     with DFSPH_WALL_LAPLACIAN_SUM instead w = sum_b psi_b lap W(x_i - x_b) (see below)
@@ -94,7 +96,16 @@ float dfsphIncrement(uint j) { return texelFetch(dfIncrementTex, int(j)).x; }
 // Per-particle values read through the views too (one gather instead of a load per lane on llvmpipe;
 // a pass may read its own particle's value this way before writing it through the storage block).
 vec4 dfsphParticle(uint i) { return texelFetch(dfParticleTex, int(i)); }
-uint dfsphCount(uint i) { return texelFetch(dfCountTex, int(i)).x; }
+uint dfsphCount(uint i) { return texelFetch(dfCountTex, int(i)).x & 0xffffu; }
+#if defined(DFSPH_BOUNDARY_CONSTRAINTS)
+// Wall entries (constraint walls): slot DFSPH_MAX_NEIGHBORS - 1 - k for k < dfsphBoundaryCount(i),
+// xyz = psi_b grad W(x_i - x_b), w = the sorted sample index b; the sample's stiffness (dfsph[N + b],
+// increment N + b) follows the particles'. dfCount's high 16 bits hold the wall entries' count.
+uint dfsphBoundaryCount(uint i) { return texelFetch(dfCountTex, int(i)).x >> 16u; }
+vec4 dfsphBoundaryEntry(uint i, uint k) {
+  return texelFetch(dfNbrTex, int((uint(DFSPH_MAX_NEIGHBORS) - 1u - k) * simCounts.x + i));
+}
+#endif
 vec4 dfsphBoundary(uint i) { return texelFetch(dfBoundaryTex, int(i)); }
 #elif defined(DFSPH_LIST_WRITE)
 layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_NEIGHBORS) writeonly buffer DfsphNeighbors { vec4 dfNbr[]; };

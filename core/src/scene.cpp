@@ -231,11 +231,22 @@ std::shared_ptr<const Object<DfsphSettings>> dfsphSchema() {
         .number("divergence_warm_share", &DfsphSettings::divergenceWarmShare, 0.5, "", Range::closed(0, 1),
                 "The same for the divergence solve (SPlisHSPlasH's 0.5); the full share keeps re-applying a "
                 "stale impulse and a resting tank does not settle.")
+        .choice("walls", &DfsphSettings::walls, DfsphWalls::Push,
+                {{"push", DfsphWalls::Push}, {"constraints", DfsphWalls::Constraints}},
+                "The walls in the constant-density solve: \"push\", the wall samples push a particle "
+                "with density_wall_push times its own stiffness plus the hydrostatic rise (Akinci 2012, "
+                "Adami 2012); \"constraints\", each wall sample keeps a density constraint of its own "
+                "(the fluid near it at most its share on the resting lattice) whose stiffness pushes "
+                "the fluid along the constraint's gradient: the walls do no work, so a closed tank "
+                "does not gain energy; it costs a pass over the samples per iteration. Needs a scene "
+                "without colliders; a resumed run is not bit-identical to an uninterrupted one (the "
+                "samples' stiffness is not in the restart file).")
         .number("density_wall_push", &DfsphSettings::densityWallPush, 1.5, "", Range::closed(1, 1.75),
                 "Weight of the wall samples in the constant-density solve: above 1 walls push back harder "
                 "than fluid, which keeps particles out of them. Above 1 the solve is not symmetric: in a "
                 "domain 6 particles across the first frame gains 0.7 % of g H at 1.75, 12.5 % at 1.9, "
                 "and 2.5 diverges (docs/design.md).")
+        .onlyWhen([](const DfsphSettings& d) { return d.walls == DfsphWalls::Push; }, "push walls")
         .number("free_surface_fraction", &DfsphSettings::freeSurfaceFraction, 0.6, "", Range::closed(0, 1),
                 "A particle with fewer neighbours than this share of a full lattice neighbourhood is at "
                 "the free surface and gets no divergence correction (SPlisHSPlasH: 20 of 32).")
@@ -704,6 +715,15 @@ void checkPeriodic(const Scene& s, const Json&, const std::string&) {
   }
 }
 
+/// DFSPH's constraint walls: a wall sample's share on the resting lattice assumes the domain's walls.
+void checkDfsphWalls(const Scene& s, const Json&, const std::string&) {
+  if (s.solver.method != Solver::DFSPH || s.solver.dfsph.walls != DfsphWalls::Constraints) return;
+  if (!s.colliders.empty())
+    throw SchemaError("/solver/dfsph/walls",
+                      "expected \"push\" in a scene with colliders, got \"constraints\" (the wall "
+                      "constraints hold the domain's walls only); remove the colliders or the key");
+}
+
 /// Emitters, kill boxes and open faces: the solver, the geometry and the particle limit.
 void checkEmittersAndRemoval(const Scene& s, const Json&, const std::string&) {
   if (!s.changesParticleCount()) return;
@@ -782,6 +802,7 @@ std::shared_ptr<const Object<Scene>> buildSceneSchema() {
           checkWallViscosity(s, raw, path);
           checkPeriodic(s, raw, path);
           checkEmittersAndRemoval(s, raw, path);
+          checkDfsphWalls(s, raw, path);
         });
   });
 }
@@ -1189,6 +1210,8 @@ Json sceneIdentityJson(const Scene& scene) {
   if (j["fluid"].contains("wall_viscosity_speed") &&
       std::fabs(scene.fluid.wallViscositySpeed - fluidSpeed) <= 1e-12 * fluidSpeed)
     j["fluid"].erase("wall_viscosity_speed");  // the fluid's alpha c: the runs of caches without the key
+  if (j["solver"].contains("dfsph") && j["solver"]["dfsph"].value("walls", "") == "push")
+    j["solver"]["dfsph"].erase("walls");  // the only walls before the choice existed
   for (Json& c : j["colliders"])
     for (Json& k : c["keyframes"])
       if (k.contains("rotation") && k["rotation"] == Json::array({0, 0, 0})) k.erase("rotation");

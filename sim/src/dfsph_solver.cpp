@@ -33,9 +33,10 @@ int latticeNeighbours(double q) {
 }
 
 // The density solve's warm share and the walls' weight in it, which the non-pressure pass applies too.
+// Constraint walls push a particle with 1 x its own stiffness (its constraint's gradient).
 ShaderDefines withDensitySolveShares(const DfsphSettings& s, ShaderDefines d) {
   d.set("DFSPH_DENSITY_WARM_SHARE", float(s.densityWarmShare));
-  d.set("DFSPH_DENSITY_WALL_PUSH", float(s.densityWallPush));
+  d.set("DFSPH_DENSITY_WALL_PUSH", s.walls == DfsphWalls::Constraints ? 1.0f : float(s.densityWallPush));
   return d;
 }
 
@@ -105,15 +106,31 @@ int DFSPHSolver::listSlots(const Scene& scene) {
   return std::max(32, int(std::ceil(2 * mean)));
 }
 
-DFSPHSolver::DFSPHSolver(const Scene& scene, const DispatchGate& gate, const ShaderDefines& defines,
-                         uint32_t particles)
+ShaderDefines DFSPHSolver::wallDefines(const Scene& scene, ShaderDefines d) {
+  if (scene.solver.dfsph.walls != DfsphWalls::Constraints) return d;
+  d.set("DFSPH_BOUNDARY_CONSTRAINTS");
+  d.set("DFSPH_MAX_NEIGHBORS", listSlots(scene));  // the apply and non-pressure passes read wall entries
+  d.set("DFSPH_SPACING", float(scene.fluid.spacing));
+  return d;
+}
+
+ShaderDefines DFSPHSolver::sampleSolveDefines(const Scene& scene, ShaderDefines d) {
+  return factorDefines(scene, solveDefines(scene.solver.dfsph, std::move(d), false, 1, 0));
+}
+
+DFSPHSolver::DFSPHSolver(const Scene& scene, const DispatchGate& gate, const ShaderDefines& plainDefines,
+                         uint32_t particles, uint32_t boundaryEntry, uint32_t boundarySamples)
     : gate_(&gate),
       settings_(scene.solver.dfsph),
+      defines_(wallDefines(scene, plainDefines)),
       particles_(particles),
       groups_(std::max<uint32_t>(1, (particles + kSimWorkGroup - 1) / kSimWorkGroup)),
       listSlots_(listSlots(scene)),
-      particle_(size_t(std::max<uint32_t>(particles, 1)) * 16),
-      increment_(size_t(std::max<uint32_t>(particles, 1)) * 4),
+      boundaryEntry_(boundaryEntry),
+      boundarySamples_(boundarySamples),
+      boundaryConstraints_(settings_.walls == DfsphWalls::Constraints),
+      particle_(size_t(std::max<uint32_t>(particles + boundarySamples, 1)) * 16),
+      increment_(size_t(std::max<uint32_t>(particles + boundarySamples, 1)) * 4),
       warm_(size_t(std::max<uint32_t>(particles, 1)) * 4),
       partial_(size_t(groups_) * 4),
       control_(sizeof(DfsphControl)),
@@ -122,12 +139,20 @@ DFSPHSolver::DFSPHSolver(const Scene& scene, const DispatchGate& gate, const Sha
       boundary_(size_t(std::max<uint32_t>(particles, 1)) * 16),
       count_(size_t(std::max<uint32_t>(particles, 1)) * 4),
       factor_(
-          ShaderProgram::compute(simShaderTable(), "sim_dfsph_factor.comp", factorDefines(scene, defines))),
+          ShaderProgram::compute(simShaderTable(), "sim_dfsph_factor.comp", factorDefines(scene, defines_))),
       nonPressure_(ShaderProgram::compute(simShaderTable(), "sim_dfsph_nonpressure.comp",
-                                          nonPressureDefines(settings_, defines))) {
+                                          nonPressureDefines(settings_, defines_))) {
+  if (boundaryConstraints_) {
+    boundaryFactor_ = ShaderProgram::compute(simShaderTable(), "sim_dfsph_boundary_factor.comp",
+                                             factorDefines(scene, defines_));
+    const ShaderDefines d = sampleSolveDefines(scene, defines_);
+    boundarySource_ = ShaderProgram::compute(simShaderTable(), "sim_dfsph_boundary_source.comp", d);
+    boundaryApply_ = ShaderProgram::compute(simShaderTable(), "sim_dfsph_boundary_source.comp",
+                                            ShaderDefines(d).set("DFSPH_BOUNDARY_APPLY"));
+  }
   checkListFitsTextureView();
-  density_ = makeSolve(defines, false, 0);
-  divergence_ = makeSolve(defines, true, 3 * DispatchGate::kParticleEntry);
+  density_ = makeSolve(defines_, false, 0);
+  divergence_ = makeSolve(defines_, true, 3 * DispatchGate::kParticleEntry);
   DfsphControl c{};
   const uint32_t live[9] = {groups_, 1, 1, 1, 1, 1, groups_, 1, 1};
   std::copy(live, live + 9, c.args + 9);
@@ -201,6 +226,15 @@ void DFSPHSolver::dispatch(const ShaderProgram& p, uint32_t entry, const char* l
   storageBarrier();
 }
 
+// A direct dispatch over the wall samples: the shader reads the solve's open flag itself. (The gate's
+// entry over the samples is closed in a frame's last substep, whose constant-density solve still runs.)
+void DFSPHSolver::dispatchOverSamples(const ShaderProgram& p, const char* label) const {
+  p.use();
+  glDispatchCompute((boundarySamples_ + kSimWorkGroup - 1) / kSimWorkGroup, 1, 1);
+  glCheck(label);
+  storageBarrier();
+}
+
 bool DFSPHSolver::open() const {
   glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
   uint32_t flag = 0;
@@ -214,6 +248,11 @@ void DFSPHSolver::computeDensity(PassTimer& timer) const {
   factor_.use();
   gate_->dispatch(DispatchGate::kParticleEntry, "sim_dfsph_factor.comp");
   storageBarrier();
+  if (boundaryConstraints_) {
+    boundaryFactor_.use();
+    gate_->dispatch(boundaryEntry_, "sim_dfsph_boundary_factor.comp");
+    storageBarrier();
+  }
 }
 
 // One solve: open it (only if the substep is alive), warm start, then iterations of residual, GPU
@@ -239,10 +278,13 @@ void DFSPHSolver::run(const Solve& s, const char* label, PassTimer& timer) const
   for (int it = 0; it <= settings_.maxIterations;) {
     for (int k = 0; k < kCheckEvery && it <= settings_.maxIterations; ++k, ++it) {
       dispatch(s.source, kSourceEntry, "sim_dfsph_source.comp");
+      const bool wallConstraints = boundaryConstraints_ && !s.applyWarmStart;  // the density solve's
+      if (wallConstraints) dispatchOverSamples(boundarySource_, "sim_dfsph_boundary_source.comp");
       if (it == 0) glProgramUniform1f(s.source.id(), momentum, float(settings_.jacobiMomentum));
       dispatch(s.reduce, kReduceEntry, "sim_dfsph_reduce.comp");
       glMemoryBarrier(GL_COMMAND_BARRIER_BIT);
       dispatch(s.apply, kApplyEntry, "sim_dfsph_apply.comp");
+      if (wallConstraints) dispatchOverSamples(boundaryApply_, "sim_dfsph_boundary_source.comp (apply)");
     }
     if (!open()) break;
   }

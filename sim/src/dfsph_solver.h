@@ -61,7 +61,10 @@ class DFSPHSolver : public PressureSolver {
   /// Builds the programs (tolerances and iteration limits are compiled in) and buffers for `particles`.
   /// @throws GLError if a program does not build, or if the neighbour lists hold more texels than the
   /// context's GL_MAX_TEXTURE_BUFFER_SIZE (the solver iterations read them through a buffer texture).
-  DFSPHSolver(const Scene& scene, const DispatchGate& gate, const ShaderDefines& defines, uint32_t particles);
+  /// With solver.dfsph.walls "constraints", `boundaryEntry` is the dispatch gate's entry over the
+  /// `boundarySamples` wall samples, each of which then carries a stiffness of its own.
+  DFSPHSolver(const Scene& scene, const DispatchGate& gate, const ShaderDefines& defines, uint32_t particles,
+              uint32_t boundaryEntry = 0, uint32_t boundarySamples = 0);
   const char* name() const override { return "dfsph"; }
   void computeAccelerations(PassTimer& timer) const override;
   void correctVelocities(PassTimer& timer) const override;
@@ -82,6 +85,13 @@ class DFSPHSolver : public PressureSolver {
   /// groups of one pass and the dispatch gate's word for the solve.
   static ShaderDefines solveDefines(const DfsphSettings& settings, ShaderDefines defines, bool divergence,
                                     uint32_t groups, uint32_t gateWord);
+  /// `defines` plus, with constraint walls (solver.dfsph.walls), what every DFSPH pass needs for them:
+  /// DFSPH_BOUNDARY_CONSTRAINTS, the list slots (the wall entries fill them from the end) and the spacing
+  /// (the samples' resting share, sim_dfsph_boundary_factor.comp). Throws nothing.
+  static ShaderDefines wallDefines(const Scene& scene, ShaderDefines defines);
+  /// `defines` (with wallDefines()) plus what sim_dfsph_boundary_source.comp needs, in both its variants
+  /// (iteration; DFSPH_BOUNDARY_APPLY): the constant-density solve's and the factor pass's defines.
+  static ShaderDefines sampleSolveDefines(const Scene& scene, ShaderDefines defines);
   /// `defines` plus what sim_dfsph_nonpressure.comp needs (the density solve's warm share, wall push).
   static ShaderDefines nonPressureDefines(const DfsphSettings& settings, ShaderDefines defines);
 
@@ -111,16 +121,23 @@ class DFSPHSolver : public PressureSolver {
   void bind() const;
   void checkListFitsTextureView() const;
   void dispatch(const ShaderProgram& p, uint32_t entry, const char* label) const;
+  void dispatchOverSamples(const ShaderProgram& p, const char* label) const;
   bool open() const;
 
   const DispatchGate* gate_;
   /// solver.dfsph: tolerances, iteration limits, relaxation, momentum and warm-start shares (each
   /// compiled into the programs as a #define).
   DfsphSettings settings_;
+  ShaderDefines defines_;  ///< the scene's defines with wallDefines()
   uint32_t particles_, groups_;
   int listSlots_;
+  uint32_t boundaryEntry_, boundarySamples_;  ///< the gate's entry over the wall samples, their count
+  bool boundaryConstraints_;                  ///< solver.dfsph.walls "constraints"
+  /// particle_ and increment_ hold the wall samples' entries after the particles' (N + b).
   GpuBuffer particle_, increment_, warm_, partial_, control_, neighbors_, boundary_, count_;
   ShaderProgram factor_, nonPressure_;
+  /// Constraint walls only: the samples' step start, iteration and apply passes.
+  ShaderProgram boundaryFactor_, boundarySource_, boundaryApply_;
   Solve density_, divergence_;
 };
 

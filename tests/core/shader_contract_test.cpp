@@ -213,11 +213,19 @@ void addSimPrograms(const Scene& scene, const std::string& variant, std::vector<
     add("sim_force.comp", masks);
     return;
   }
-  // dfsph_solver.cpp: the factor and non-pressure passes, and the four programs of each solve (makeSolve)
-  add("sim_dfsph_factor.comp", sim::DFSPHSolver::factorDefines(scene, d));
-  add("sim_dfsph_nonpressure.comp", sim::DFSPHSolver::nonPressureDefines(scene.solver.dfsph, d));
+  // dfsph_solver.cpp: the factor and non-pressure passes, and the four programs of each solve (makeSolve);
+  // with constraint walls the samples' passes
+  const ShaderDefines w = sim::DFSPHSolver::wallDefines(scene, d);
+  add("sim_dfsph_factor.comp", sim::DFSPHSolver::factorDefines(scene, w));
+  add("sim_dfsph_nonpressure.comp", sim::DFSPHSolver::nonPressureDefines(scene.solver.dfsph, w));
+  if (scene.solver.dfsph.walls == DfsphWalls::Constraints) {
+    add("sim_dfsph_boundary_factor.comp", sim::DFSPHSolver::factorDefines(scene, w));
+    const ShaderDefines samples = sim::DFSPHSolver::sampleSolveDefines(scene, w);
+    add("sim_dfsph_boundary_source.comp", samples);
+    add("sim_dfsph_boundary_source.comp", ShaderDefines(samples).set("DFSPH_BOUNDARY_APPLY"));
+  }
   for (const bool divergence : {false, true}) {
-    const ShaderDefines s = sim::DFSPHSolver::solveDefines(scene.solver.dfsph, d, divergence, 1u, 0u);
+    const ShaderDefines s = sim::DFSPHSolver::solveDefines(scene.solver.dfsph, w, divergence, 1u, 0u);
     for (const char* file :
          {"sim_dfsph_begin.comp", "sim_dfsph_source.comp", "sim_dfsph_reduce.comp", "sim_dfsph_apply.comp"})
       add(file, s);
@@ -240,6 +248,8 @@ std::vector<ProgramSpec> allPrograms() {
   addSimPrograms(loadScene(dam, {"domain.periodic=[\"x\", \"z\"]"}), "dam_break periodic x z", programs);
   addSimPrograms(loadScene(dam, {"domain.periodic=[\"z\"]"}), "dam_break periodic z", programs);
   addSimPrograms(loadScene(dam, {"solver.wcsph.kernel=muller2003"}), "dam_break muller2003 kernel", programs);
+  addSimPrograms(loadScene(dam, {"solver.method=dfsph", "solver.dfsph.walls=constraints"}),
+                 "dam_break dfsph constraint walls", programs);
 
   const auto add = [&](const std::string& files, const ShaderDefines& defines = {}) {
     programs.push_back({files, defines, "renderer"});

@@ -20,6 +20,8 @@ using Vec3d = std::array<double, 3>;
 enum class EquationOfState { Linear, Tait };
 /// WCSPH's smoothing kernel for density and pressure gradient.
 enum class SphKernel { WendlandC2, Muller2003 };
+/// How DFSPH's walls enter the constant-density solve (solver.dfsph.walls).
+enum class DfsphWalls { Push, Constraints };
 enum class ViscosityModel { None, Laplacian, Artificial };
 enum class TimeStepMode { Fixed, Cfl };
 /// Box and sphere: fluid blocks and colliders; mesh and vdb: colliders only.
@@ -104,9 +106,10 @@ struct DfsphSettings {
   double jacobiMomentum = 0;       ///< heavy-ball share of the previous Jacobi increment
   double densityWarmShare = 0;     ///< share of the last substep's stiffness the density solve starts from
   double divergenceWarmShare = 0;  ///< the same for the divergence solve
-  double densityWallPush = 0;      ///< wall samples' weight in the constant-density solve
-  double freeSurfaceFraction = 0;  ///< below this share of a full neighbourhood: no divergence estimate
-  double fallFactor = 0;           ///< CFL mode: |a|max dt^2 <= fallFactor * spacing
+  DfsphWalls walls = DfsphWalls::Push;  ///< the walls' part in the constant-density solve
+  double densityWallPush = 0;           ///< wall samples' weight in the constant-density solve (push walls)
+  double freeSurfaceFraction = 0;       ///< below this share of a full neighbourhood: no divergence estimate
+  double fallFactor = 0;                ///< CFL mode: |a|max dt^2 <= fallFactor * spacing
 };
 
 struct SolverSettings {

@@ -1,0 +1,58 @@
+// DFSPH boundary constraints (DFSPH_BOUNDARY_CONSTRAINTS), step start: each wall sample b carries a
+// density constraint of its own, its fluid share S_b = sum_f psi_b W(x_b - x_f) (the pair kernel of the
+// walls, sph_dfsph.glsl) at most its share on the resting lattice T_b. Its stiffness k_b pushes the
+// fluid by -k_b psi_b grad W(x_f - x_b), the gradient of the constraint, so the walls' pressure does no
+// work on motion that keeps the constraints (as the WCSPH walls' own pressure, sim_boundary_pressure.comp).
+// Writes dfsph[N + b]: x the inverse Jacobi diagonal (0: no fluid near), y S_b - T_b, z the warm start
+// (the density solve's warm share of the last total), w 0. Walls only: a sample's T_b is the share of a
+// fluid filling the domain (colliders are rejected with constraint walls), and the samples keep their
+// sorted order between substeps (the warm start is per sorted index).
+#define DFSPH_LIST_READ
+#include "sph_params.glsl"
+#include "sph_neighbors.glsl"
+#include "sph_dfsph.glsl"
+layout(local_size_x = SIM_WG) in;
+
+float spikyW(float r) {
+  float q = max(simDomainMin.w - r, 0.0);
+  return (-simKernel.y / 3.0) * q * q * q;
+}
+
+// The share of a fluid filling the domain on its lattice (sites min + (k + 1/2) s).
+float restShare(vec3 xb) {
+  const float s = DFSPH_SPACING;
+  vec3 base = floor((xb - simDomainMin.xyz) / s - 0.5);
+  float sum = 0.0;
+  for (int x = -2; x <= 3; ++x)
+    for (int y = -2; y <= 3; ++y)
+      for (int z = -2; z <= 3; ++z) {
+        vec3 site = simDomainMin.xyz + (base + vec3(x, y, z) + 0.5) * s;
+        bool inside = all(greaterThan(site, simDomainMin.xyz)) && all(lessThan(site, simDomainMax.xyz));
+        sum += inside ? spikyW(length(xb - site)) : 0.0;
+      }
+  return sum;
+}
+
+void main() {
+  uint b = sphfxGlobalIndex();
+  if (b >= simCounts.y) return;
+  vec4 xb = sphFetchBoundaryPos(b);
+  float psi = xb.w * dfsphWallScale(xb.xyz), share = 0.0, squares = 0.0;
+  SPH_FOR_EACH_CELL_RANGE(xb.xyz, row, seam, first, last)
+    SPH_FOR_EACH_FLUID(j, first, last) {
+      vec3 d = sphFetchPos(j).xyz - xb.xyz;
+      float r = length(d);
+      share += psi * spikyW(r);
+      vec3 g = psi * sphSpikyGrad(d, r);
+      // Jacobi diagonal: the row sum e_fb . sum_b' e_fb' over the samples that share particle f (they
+      // push it together: with |e_fb|^2 alone, the exact diagonal, the floor's corners diverge in the
+      // first substeps), at least |e_fb|^2.
+      squares += max(dot(g, dfsphBoundary(j).xyz), dot(g, g));
+    }
+  SPH_END_FOR_EACH_CELL_RANGE
+  uint at = simCounts.x + b;
+  bool nearFluid = squares > 1e-20;
+  float warm = dfsph[at].z;
+  dfsph[at] = vec4(nearFluid ? 1.0 / squares : 0.0, share - psi * restShare(xb.xyz),
+                   nearFluid ? DFSPH_DENSITY_WARM_SHARE * warm : 0.0, 0.0);
+}

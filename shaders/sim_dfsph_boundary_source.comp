@@ -1,0 +1,38 @@
+// DFSPH boundary constraints, one constant-density iteration (sim_dfsph_boundary_factor.comp):
+// default: the predicted share S_b + dt D S_b / Dt - T_b of each wall sample and its projected Jacobi
+//   increment (stiffness total >= 0), read by sim_dfsph_apply.comp at N + b. Runs beside
+//   sim_dfsph_source.comp (both read the same velocities), directly dispatched: a closed solve
+//   (dfOpen 0) skips it;
+// DFSPH_BOUNDARY_APPLY: adds the increment to the sample's total, while the solve is open (the
+//   iteration that closes it applies nothing).
+#include "sph_params.glsl"
+#include "sph_neighbors.glsl"
+#include "sph_dfsph.glsl"
+layout(local_size_x = SIM_WG) in;
+layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_INCREMENT) buffer DfsphIncrement { float increment[]; };
+
+void main() {
+  uint b = sphfxGlobalIndex();
+  if (b >= simCounts.y || dfOpen == 0u) return;
+  uint at = simCounts.x + b;
+#if defined(DFSPH_BOUNDARY_APPLY)
+  dfsph[at].z += increment[at];
+#else
+  vec4 f = dfsph[at];
+  float inc = 0.0;
+  if (f.x > 0.0) {
+    vec4 xb = sphFetchBoundaryPos(b);
+    float psi = xb.w * dfsphWallScale(xb.xyz), rate = 0.0;
+    SPH_FOR_EACH_CELL_RANGE(xb.xyz, row, seam, first, last)
+      SPH_FOR_EACH_FLUID(j, first, last) {
+        vec3 d = sphFetchPos(j).xyz - xb.xyz;
+        rate += dot(sphFetchVel(j).xyz, psi * sphSpikyGrad(d, length(d)));
+      }
+    SPH_END_FOR_EACH_CELL_RANGE
+    // D S_b / Dt = sum_f psi_b v_f . grad W(x_f - x_b) (walls at rest); the diagonal is in f.x.
+    float dt = stateDt, residual = f.y + dt * rate;
+    inc = max(f.z + DFSPH_OMEGA * residual * f.x / (dt * dt), 0.0) - f.z;
+  }
+  increment[at] = inc;
+#endif
+}
