@@ -4,9 +4,11 @@
 // fluid by -k_b psi_b grad W(x_f - x_b), the gradient of the constraint, so the walls' pressure does no
 // work on motion that keeps the constraints (as the WCSPH walls' own pressure, sim_boundary_pressure.comp).
 // Writes dfsph[N + b]: x the inverse Jacobi diagonal (0: no fluid near), y S_b - T_b, z the warm start
-// (the density solve's warm share of the last total), w 0. Walls only: a sample's T_b is the share of a
-// fluid filling the domain (colliders are rejected with constraint walls), and the samples keep their
-// sorted order between substeps (the warm start is per sorted index).
+// (the density solve's warm share of the last total), w T_b. Walls only: a sample's T_b is the share of
+// a fluid filling the domain (colliders are rejected with constraint walls), and the samples keep their
+// sorted order between substeps (the warm start and T_b are per sorted index).
+// DFSPH_BOUNDARY_REST_SHARE: the variant that writes T_b alone, once per solver (DFSPHSolver::
+// computeDensity): T_b is a lattice sum of 216 kernels that never changes.
 #define DFSPH_LIST_READ
 #include "sph_params.glsl"
 #include "sph_neighbors.glsl"
@@ -37,7 +39,12 @@ void main() {
   uint b = sphfxGlobalIndex();
   if (b >= simCounts.y) return;
   vec4 xb = sphFetchBoundaryPos(b);
-  float psi = xb.w * dfsphWallScale(xb.xyz), share = 0.0, squares = 0.0;
+  float psi = xb.w * dfsphWallScale(xb.xyz);
+  uint at = simCounts.x + b;
+#if defined(DFSPH_BOUNDARY_REST_SHARE)
+  dfsph[at].w = psi * restShare(xb.xyz);
+#else
+  float share = 0.0, squares = 0.0;
   SPH_FOR_EACH_CELL_RANGE(xb.xyz, row, seam, first, last)
     SPH_FOR_EACH_FLUID(j, first, last) {
       vec3 d = sphFetchPos(j).xyz - xb.xyz;
@@ -50,9 +57,9 @@ void main() {
       squares += max(dot(g, dfsphBoundary(j).xyz), dot(g, g));
     }
   SPH_END_FOR_EACH_CELL_RANGE
-  uint at = simCounts.x + b;
   bool nearFluid = squares > 1e-20;
-  float warm = dfsph[at].z;
-  dfsph[at] = vec4(nearFluid ? 1.0 / squares : 0.0, share - psi * restShare(xb.xyz),
-                   nearFluid ? DFSPH_DENSITY_WARM_SHARE * warm : 0.0, 0.0);
+  vec4 last = dfsph[at];
+  dfsph[at] = vec4(nearFluid ? 1.0 / squares : 0.0, share - last.w,
+                   nearFluid ? DFSPH_DENSITY_WARM_SHARE * last.z : 0.0, last.w);
+#endif
 }

@@ -143,8 +143,10 @@ DFSPHSolver::DFSPHSolver(const Scene& scene, const DispatchGate& gate, const Sha
       nonPressure_(ShaderProgram::compute(simShaderTable(), "sim_dfsph_nonpressure.comp",
                                           nonPressureDefines(settings_, defines_))) {
   if (boundaryConstraints_) {
-    boundaryFactor_ = ShaderProgram::compute(simShaderTable(), "sim_dfsph_boundary_factor.comp",
-                                             factorDefines(scene, defines_));
+    const ShaderDefines factor = factorDefines(scene, defines_);
+    boundaryFactor_ = ShaderProgram::compute(simShaderTable(), "sim_dfsph_boundary_factor.comp", factor);
+    boundaryRestShare_ = ShaderProgram::compute(simShaderTable(), "sim_dfsph_boundary_factor.comp",
+                                                ShaderDefines(factor).set("DFSPH_BOUNDARY_REST_SHARE"));
     const ShaderDefines d = sampleSolveDefines(scene, defines_);
     boundarySource_ = ShaderProgram::compute(simShaderTable(), "sim_dfsph_boundary_source.comp", d);
     boundaryApply_ = ShaderProgram::compute(simShaderTable(), "sim_dfsph_boundary_source.comp",
@@ -249,6 +251,10 @@ void DFSPHSolver::computeDensity(PassTimer& timer) const {
   gate_->dispatch(DispatchGate::kParticleEntry, "sim_dfsph_factor.comp");
   storageBarrier();
   if (boundaryConstraints_) {
+    // Directly dispatched: the gate's sample entry may be closed in this substep (a frame's last).
+    if (restSharePending_)
+      dispatchOverSamples(boundaryRestShare_, "sim_dfsph_boundary_factor.comp (rest share)");
+    restSharePending_ = false;
     boundaryFactor_.use();
     gate_->dispatch(boundaryEntry_, "sim_dfsph_boundary_factor.comp");
     storageBarrier();

@@ -136,8 +136,10 @@ class DFSPHSolver : public PressureSolver {
   /// particle_ and increment_ hold the wall samples' entries after the particles' (N + b).
   GpuBuffer particle_, increment_, warm_, partial_, control_, neighbors_, boundary_, count_;
   ShaderProgram factor_, nonPressure_;
-  /// Constraint walls only: the samples' step start, iteration and apply passes.
-  ShaderProgram boundaryFactor_, boundarySource_, boundaryApply_;
+  /// Constraint walls only: the samples' step start, iteration and apply passes, and the pass that
+  /// computes their resting shares once, in the solver's first substep (restSharePending_).
+  ShaderProgram boundaryFactor_, boundarySource_, boundaryApply_, boundaryRestShare_;
+  mutable bool restSharePending_ = true;
   Solve density_, divergence_;
 };
 

@@ -220,6 +220,8 @@ void addSimPrograms(const Scene& scene, const std::string& variant, std::vector<
   add("sim_dfsph_nonpressure.comp", sim::DFSPHSolver::nonPressureDefines(scene.solver.dfsph, w));
   if (scene.solver.dfsph.walls == DfsphWalls::Constraints) {
     add("sim_dfsph_boundary_factor.comp", sim::DFSPHSolver::factorDefines(scene, w));
+    add("sim_dfsph_boundary_factor.comp",
+        sim::DFSPHSolver::factorDefines(scene, w).set("DFSPH_BOUNDARY_REST_SHARE"));
     const ShaderDefines samples = sim::DFSPHSolver::sampleSolveDefines(scene, w);
     add("sim_dfsph_boundary_source.comp", samples);
     add("sim_dfsph_boundary_source.comp", ShaderDefines(samples).set("DFSPH_BOUNDARY_APPLY"));
