@@ -224,16 +224,18 @@ TEST(Scene, MethodEnumsAndDocsComeFromTheRegistries) {
     Json raw = minimal();
     raw["solver"]["method"] = e.name;
     EXPECT_EQ(parseScene(raw, "x.json").solver.method, e.id);
-    if (!e.parameterGroup.empty())
+    if (!e.parameterGroup.empty()) {
       EXPECT_NE(doc.find("`solver." + e.parameterGroup + "`"), std::string::npos);
+    }
   }
   for (const auto& e : surfacingMethodRegistry()) {
     EXPECT_NE(doc.find("\"" + e.name + "\": " + e.description), std::string::npos) << e.name;
     Json raw = minimal();
     raw["surface"]["method"] = e.name;
     EXPECT_EQ(parseScene(raw, "x.json").surface.method, e.id);
-    if (!e.parameterGroup.empty())
+    if (!e.parameterGroup.empty()) {
       EXPECT_NE(doc.find("`surface." + e.parameterGroup + "`"), std::string::npos);
+    }
   }
 }
 
