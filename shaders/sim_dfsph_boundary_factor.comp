@@ -15,11 +15,6 @@
 #include "sph_dfsph.glsl"
 layout(local_size_x = SIM_WG) in;
 
-float spikyW(float r) {
-  float q = max(simDomainMin.w - r, 0.0);
-  return (-simKernel.y / 3.0) * q * q * q;
-}
-
 // The share of a fluid filling the domain on its lattice (sites min + (k + 1/2) s).
 float restShare(vec3 xb) {
   const float s = DFSPH_SPACING;
@@ -30,7 +25,7 @@ float restShare(vec3 xb) {
       for (int z = -2; z <= 3; ++z) {
         vec3 site = simDomainMin.xyz + (base + vec3(x, y, z) + 0.5) * s;
         bool inside = all(greaterThan(site, simDomainMin.xyz)) && all(lessThan(site, simDomainMax.xyz));
-        sum += inside ? spikyW(length(xb - site)) : 0.0;
+        sum += inside ? dfsphSpikyW(length(xb - site)) : 0.0;
       }
   return sum;
 }
@@ -49,7 +44,7 @@ void main() {
     SPH_FOR_EACH_FLUID(j, first, last) {
       vec3 d = sphFetchPos(j).xyz - xb.xyz;
       float r = length(d);
-      share += psi * spikyW(r);
+      share += psi * dfsphSpikyW(r);
       vec3 g = psi * sphSpikyGrad(d, r);
       // Jacobi diagonal: the row sum e_fb . sum_b' e_fb' over the samples that share particle f (they
       // push it together: with |e_fb|^2 alone, the exact diagonal, the floor's corners diverge in the

@@ -1,4 +1,4 @@
-// DFSPH step start: density (fluid: poly6; Akinci 2012 boundary samples: psi W with the spiky kernel,
+// DFSPH step start: density (fluid: poly6, or spiky with DFSPH_SPIKY_DENSITY; Akinci 2012 boundary samples: psi W with the spiky kernel,
 // dfsphWallScale() in sph_dfsph.glsl), the factors
 // alpha_i / rho_i of both solves (Bender & Koschier 2017, eq. 9, boundary in the first sum only; gW the
 // spiky gradient; the constant-density solve's walls push DFSPH_DENSITY_WALL_PUSH times:
@@ -24,7 +24,12 @@ void main() {
   if (live) {
     vec3 xi = sphFetchPos(i).xyz;
     uint n = simCounts.x, listed = 0u, blisted = 0u;
-    float m = simGravity.w, fluid = 0.0, wall = 0.0, squares = 0.0, boundaryNeighbours = 0.0;
+#if defined(DFSPH_SPIKY_DENSITY)
+    const float m = simGravity.w * DFSPH_SPIKY_DENSITY;
+#else
+    const float m = simGravity.w;
+#endif
+    float fluid = 0.0, wall = 0.0, squares = 0.0, boundaryNeighbours = 0.0;
     float boundaryW = 0.0;  // dfBoundary.w (sph_dfsph.glsl)
     vec3 gradSum = vec3(0.0), wallGrad = vec3(0.0), hydrostatic = vec3(0.0);
     // No branch per candidate: the kernels are 0 beyond h (and the gradient at r = 0), and every
@@ -35,7 +40,11 @@ void main() {
       SPH_FOR_EACH_FLUID(j, first, last) {
         vec3 d = xi - sphFetchPos(j).xyz;
         float r2 = dot(d, d);
+#if defined(DFSPH_SPIKY_DENSITY)
+        fluid += dfsphSpikyW(sqrt(r2));
+#else
         fluid += sphPoly6(r2);
+#endif
         vec3 g = m * dfsphGrad(d);
         gradSum += g;
         squares += dot(g, g);
@@ -47,7 +56,7 @@ void main() {
         vec3 d = xi - b.xyz;
         float r2 = dot(d, d);
         float psi = b.w * dfsphWallScale(b.xyz), r = sqrt(r2), q = max(simDomainMin.w - r, 0.0);
-        wall += psi * (-simKernel.y / 3.0) * q * q * q;  // spiky W = 15 / (pi h^6) (h - r)^3
+        wall += psi * (-simKernel.y / 3.0) * q * q * q;  // psi dfsphSpikyW(r)
         vec3 g = psi * sphSpikyGrad(d, r);
         wallGrad += g;
         hydrostatic -= dot(simGravity.xyz, d) * g;  // g . (x_b - x_i) psi_b grad W_ib

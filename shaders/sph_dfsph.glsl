@@ -40,10 +40,20 @@ layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_CONTROL) buffer DfsphControl {
 // Walls in the DFSPH density and in every DFSPH gradient sum: psi_b times the spiky kernel (the kernel
 // whose gradient the solves use) weighted by dfsphWallScale(), so that a particle pressed into a wall
 // sees its density rise steeply (9 % at 0.2 spacings from a flat wall's resting site; poly6: 1.1 %).
+// Spiky W = 15 / (pi h^6) (h - r)^3 (simKernel.y is its gradient's -45 / (pi h^6)).
+float dfsphSpikyW(float r) {
+  float q = max(simDomainMin.w - r, 0.0);
+  return (-simKernel.y / 3.0) * q * q * q;
+}
+
 // The weights (DFSPHSolver::spikyWallScales) make the resting lattice sum to the poly6 rest density
 // next to faces, edges and corners: a sample beyond one, two or three of the domain's walls (collider
-// samples, inside the domain, count as a face).
-// (Defined for sim_dfsph_factor.comp only: DFSPHSolver::factorDefines.)
+// samples, inside the domain, count as a face). (Defined for the passes that sum over samples:
+// DFSPHSolver::factorDefines.)
+// solver.dfsph.density_kernel "spiky" (DFSPH_SPIKY_DENSITY, DFSPHSolver::spikyDensityMassScale): the
+// fluid's density is the spiky sum too, every DFSPH sum takes the particle mass times the scale and
+// every class of sample weighs the scale, so that a solve's predicted density change is the change of
+// the sum it corrects. The viscosity keeps the plain mass.
 #if defined(DFSPH_WALL_SPIKY_FACE)
 float dfsphWallScale(vec3 xb) {
   vec3 beyond = step(simDomainMax.xyz, xb) + step(xb, simDomainMin.xyz);

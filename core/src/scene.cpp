@@ -241,6 +241,14 @@ std::shared_ptr<const Object<DfsphSettings>> dfsphSchema() {
                 "does not gain energy; it costs a pass over the samples per iteration. Needs a scene "
                 "without colliders; a resumed run is not bit-identical to an uninterrupted one (the "
                 "samples' stiffness is not in the restart file).")
+        .choice("density_kernel", &DfsphSettings::densityKernel, DfsphDensityKernel::Poly6,
+                {{"poly6", DfsphDensityKernel::Poly6}, {"spiky", DfsphDensityKernel::Spiky}},
+                "Kernel of the fluid's density sum: \"poly6\" (Mueller et al. 2003), while every gradient "
+                "of the solves is the spiky kernel's, so a solve's predicted density change is not the "
+                "change of the sum it corrects; or \"spiky\", the kernel of the gradients and of the walls, "
+                "with the particle mass scaled so that the resting lattice sums to the rest density. Needs "
+                "walls \"constraints\". With them and density_warm_share 0.5, a 10 s tank at rest meets the "
+                "rest criteria (docs/validation.md).")
         .number("density_wall_push", &DfsphSettings::densityWallPush, 1.5, "", Range::closed(1, 1.75),
                 "Weight of the wall samples in the constant-density solve: above 1 walls push back harder "
                 "than fluid, which keeps particles out of them. Above 1 the solve is not symmetric: in a "
@@ -716,8 +724,15 @@ void checkPeriodic(const Scene& s, const Json&, const std::string&) {
 }
 
 /// DFSPH's constraint walls: a wall sample's share on the resting lattice assumes the domain's walls.
+/// The spiky density is solved with them only (with push walls it bursts in the first frame, design.md).
 void checkDfsphWalls(const Scene& s, const Json&, const std::string&) {
-  if (s.solver.method != Solver::DFSPH || s.solver.dfsph.walls != DfsphWalls::Constraints) return;
+  if (s.solver.method != Solver::DFSPH) return;
+  if (s.solver.dfsph.densityKernel == DfsphDensityKernel::Spiky &&
+      s.solver.dfsph.walls != DfsphWalls::Constraints)
+    throw SchemaError("/solver/dfsph/density_kernel",
+                      "expected \"poly6\" with walls \"push\", got \"spiky\" (the spiky density needs "
+                      "walls \"constraints\"); set solver.dfsph.walls to \"constraints\" or remove the key");
+  if (s.solver.dfsph.walls != DfsphWalls::Constraints) return;
   if (!s.colliders.empty())
     throw SchemaError("/solver/dfsph/walls",
                       "expected \"push\" in a scene with colliders, got \"constraints\" (the wall "
@@ -1210,8 +1225,11 @@ Json sceneIdentityJson(const Scene& scene) {
   if (j["fluid"].contains("wall_viscosity_speed") &&
       std::fabs(scene.fluid.wallViscositySpeed - fluidSpeed) <= 1e-12 * fluidSpeed)
     j["fluid"].erase("wall_viscosity_speed");  // the fluid's alpha c: the runs of caches without the key
-  if (j["solver"].contains("dfsph") && j["solver"]["dfsph"].value("walls", "") == "push")
-    j["solver"]["dfsph"].erase("walls");  // the only walls before the choice existed
+  if (j["solver"].contains("dfsph")) {
+    Json& dfsph = j["solver"]["dfsph"];
+    if (dfsph.value("walls", "") == "push") dfsph.erase("walls");  // the only walls before the choice existed
+    if (dfsph.value("density_kernel", "") == "poly6") dfsph.erase("density_kernel");  // likewise
+  }
   for (Json& c : j["colliders"])
     for (Json& k : c["keyframes"])
       if (k.contains("rotation") && k["rotation"] == Json::array({0, 0, 0})) k.erase("rotation");

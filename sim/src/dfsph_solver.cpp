@@ -52,7 +52,13 @@ ShaderDefines DFSPHSolver::factorDefines(const Scene& scene, ShaderDefines d) {
   d = withDensitySolveShares(scene.solver.dfsph, std::move(d));
   d.set("DFSPH_MAX_NEIGHBORS", listSlots(scene));
   d.set("DFSPH_MIN_NEIGHBOURS", float(minNeighbours(scene)));
-  const std::array<double, 3> wall = spikyWallScales(scene.solver.kernelSupport);
+  std::array<double, 3> wall = spikyWallScales(scene.solver.kernelSupport);
+  if (scene.solver.dfsph.densityKernel == DfsphDensityKernel::Spiky) {
+    // Fluid and samples on one lattice under one kernel: every class takes the mass scale.
+    const double scale = spikyDensityMassScale(scene.solver.kernelSupport);
+    d.set("DFSPH_SPIKY_DENSITY", float(scale));
+    wall = {scale, scale, scale};
+  }
   d.set("DFSPH_WALL_SPIKY_FACE", float(wall[0]));
   d.set("DFSPH_WALL_SPIKY_EDGE", float(wall[1]));
   d.set("DFSPH_WALL_SPIKY_CORNER", float(wall[2]));
@@ -95,6 +101,22 @@ std::array<double, 3> DFSPHSolver::spikyWallScales(double support) {
     c[size_t(cls - 1)] = rest / s.spiky[size_t(cls)];
   }
   return c;
+}
+
+double DFSPHSolver::spikyDensityMassScale(double support) {
+  // Lattice sums in units of the spacing, around a site of a full lattice.
+  const double h = support, h2 = h * h;
+  const KernelFactors k = kernelFactors(h);
+  const int n = int(std::ceil(h));
+  double poly6 = 0, spiky = 0;
+  for (int x = -n; x <= n; ++x)
+    for (int y = -n; y <= n; ++y)
+      for (int z = -n; z <= n; ++z) {
+        const double r2 = double(x * x + y * y + z * z), r = std::sqrt(r2);
+        if (r2 < h2) poly6 += k.poly6 * std::pow(h2 - r2, 3);
+        if (r < h) spiky += -k.spikyGradient / 3 * std::pow(h - r, 3);
+      }
+  return poly6 / spiky;
 }
 
 int DFSPHSolver::listSlots(const Scene& scene) {

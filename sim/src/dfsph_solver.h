@@ -77,8 +77,9 @@ class DFSPHSolver : public PressureSolver {
   static int listSlots(const Scene& scene);
 
   /// `defines` plus what sim_dfsph_factor.comp needs for `scene`: the list slots, the neighbour count
-  /// below which a particle gets no divergence correction (a divergence factor of 0), and the walls'
-  /// spiky density weights (spikyWallScales()).
+  /// below which a particle gets no divergence correction (a divergence factor of 0), the walls'
+  /// spiky density weights (spikyWallScales()) and, with the spiky density, its mass scale
+  /// (spikyDensityMassScale(), which the weights then take).
   static ShaderDefines factorDefines(const Scene& scene, ShaderDefines defines);
   /// `defines` plus what the four programs of one solve need (sim_dfsph_begin/source/reduce/apply):
   /// the tolerances, iteration limits, relaxation, momentum and warm share of `settings`, the work
@@ -95,6 +96,11 @@ class DFSPHSolver : public PressureSolver {
   /// `defines` plus what sim_dfsph_nonpressure.comp needs (the density solve's warm share, wall push).
   static ShaderDefines nonPressureDefines(const DfsphSettings& settings, ShaderDefines defines);
 
+  /// With solver.dfsph.density_kernel "spiky": the factor on the particle mass in the DFSPH density and
+  /// gradient sums, the poly6 lattice sum over the spiky one at kernel support `support` (spacings), so
+  /// that the resting lattice sums to the rest density (0.817 at 2); the samples' weights take it too.
+  /// Throws nothing.
+  static double spikyDensityMassScale(double support);
   /// Weights of the wall samples' spiky density term, by how many of the domain's walls a sample lies
   /// beyond: [0] one (faces; also every collider sample), [1] two (edges), [2] three (corners). The walls
   /// enter the DFSPH density with the spiky kernel, the kernel whose gradient the solves use, so that a

@@ -22,6 +22,8 @@ enum class EquationOfState { Linear, Tait };
 enum class SphKernel { WendlandC2, Muller2003 };
 /// How DFSPH's walls enter the constant-density solve (solver.dfsph.walls).
 enum class DfsphWalls { Push, Constraints };
+/// The fluid's density kernel under DFSPH (solver.dfsph.density_kernel).
+enum class DfsphDensityKernel { Poly6, Spiky };
 enum class ViscosityModel { None, Laplacian, Artificial };
 enum class TimeStepMode { Fixed, Cfl };
 /// Box and sphere: fluid blocks and colliders; mesh and vdb: colliders only.
@@ -107,9 +109,10 @@ struct DfsphSettings {
   double densityWarmShare = 0;     ///< share of the last substep's stiffness the density solve starts from
   double divergenceWarmShare = 0;  ///< the same for the divergence solve
   DfsphWalls walls = DfsphWalls::Push;  ///< the walls' part in the constant-density solve
-  double densityWallPush = 0;           ///< wall samples' weight in the constant-density solve (push walls)
-  double freeSurfaceFraction = 0;       ///< below this share of a full neighbourhood: no divergence estimate
-  double fallFactor = 0;                ///< CFL mode: |a|max dt^2 <= fallFactor * spacing
+  DfsphDensityKernel densityKernel = DfsphDensityKernel::Poly6;  ///< the fluid's density sum
+  double densityWallPush = 0;      ///< wall samples' weight in the constant-density solve (push walls)
+  double freeSurfaceFraction = 0;  ///< below this share of a full neighbourhood: no divergence estimate
+  double fallFactor = 0;           ///< CFL mode: |a|max dt^2 <= fallFactor * spacing
 };
 
 struct SolverSettings {
