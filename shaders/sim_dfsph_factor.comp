@@ -1,5 +1,5 @@
-// DFSPH step start: density (fluid: poly6, or spiky with DFSPH_SPIKY_DENSITY; Akinci 2012 boundary samples: psi W with the spiky kernel,
-// dfsphWallScale() in sph_dfsph.glsl), the factors
+// DFSPH step start: density (fluid: poly6, or spiky with DFSPH_SPIKY_DENSITY; Akinci 2012 boundary
+// samples: psi W with the spiky kernel, dfsphWallScale() in sph_dfsph.glsl), the factors
 // alpha_i / rho_i of both solves (Bender & Koschier 2017, eq. 9, boundary in the first sum only; gW the
 // spiky gradient; the constant-density solve's walls push DFSPH_DENSITY_WALL_PUSH times:
 // sph_dfsph.glsl), and the neighbour list every solver iteration of this substep reads. The walls'
