@@ -32,6 +32,30 @@ int latticeNeighbours(double q) {
   return count - 1;
 }
 
+// Kernel sums over a cubic lattice, in units of the spacing, around the site at the origin with the
+// shaders' kernels at support `support` (spiky W = -spikyGradient / 3 (h - r)^3), split by class: how
+// many of the planes x, y, z < 0 (the first `walls` of them, the walls next to the site (0.5, 0.5, 0.5))
+// a site lies beyond.
+struct LatticeSums {
+  std::array<double, 4> poly6{}, spiky{};
+};
+
+LatticeSums latticeSums(double support, int walls) {
+  const double h = support, h2 = h * h;
+  const KernelFactors k = kernelFactors(h);
+  const int n = int(std::ceil(h)) + 1;
+  LatticeSums s;
+  for (int x = -n; x <= n; ++x)
+    for (int y = -n; y <= n; ++y)
+      for (int z = -n; z <= n; ++z) {
+        const size_t cls = size_t((walls > 0 && x < 0) + (walls > 1 && y < 0) + (walls > 2 && z < 0));
+        const double r2 = double(x * x + y * y + z * z), r = std::sqrt(r2);
+        s.poly6[cls] += r2 < h2 ? k.poly6 * std::pow(h2 - r2, 3) : 0.0;
+        s.spiky[cls] += r < h ? -k.spikyGradient / 3 * std::pow(h - r, 3) : 0.0;
+      }
+  return s;
+}
+
 // The density solve's warm share and the walls' weight in it, which the non-pressure pass applies too.
 // Constraint walls push a particle with 1 x its own stiffness (its constraint's gradient).
 ShaderDefines withDensitySolveShares(const DfsphSettings& s, ShaderDefines d) {
@@ -66,36 +90,11 @@ ShaderDefines DFSPHSolver::factorDefines(const Scene& scene, ShaderDefines d) {
 }
 
 std::array<double, 3> DFSPHSolver::spikyWallScales(double support) {
-  // Lattice sums in units of the spacing around the site (0.5, 0.5, 0.5) next to the walls x, y, z < 0
-  // (the first `walls` of them): the fluid's poly6 sum, and per class (axes beyond a wall) the samples'
-  // poly6 and spiky sums. Kernel normalisations cancel in the ratios except between the two kernels.
-  const double h = support, h2 = h * h;
-  const KernelFactors k = kernelFactors(h);  // the shaders' kernels; spiky W = -spikyGradient / 3 (h - r)^3
-  const auto poly6 = [&](double r2) { return r2 < h2 ? k.poly6 * std::pow(h2 - r2, 3) : 0.0; };
-  const auto spiky = [&](double r2) {
-    const double r = std::sqrt(r2);
-    return r < h ? -k.spikyGradient / 3 * std::pow(h - r, 3) : 0.0;
-  };
-  const int n = int(std::ceil(h)) + 1;
-  struct Sums {
-    std::array<double, 4> poly6{}, spiky{};
-  };
-  const auto sums = [&](int walls) {
-    Sums s;
-    for (int x = -n; x <= n; ++x)
-      for (int y = -n; y <= n; ++y)
-        for (int z = -n; z <= n; ++z) {
-          const int cls = (walls > 0 && x < 0) + (walls > 1 && y < 0) + (walls > 2 && z < 0);
-          const double r2 = double(x * x + y * y + z * z);
-          s.poly6[size_t(cls)] += poly6(r2);
-          s.spiky[size_t(cls)] += spiky(r2);
-        }
-    return s;
-  };
-  // Each class is fixed by the first site that sees it, given the classes before it.
+  // Each class is fixed by the first site that sees it, given the classes before it. Kernel
+  // normalisations cancel in the ratios except between the two kernels.
   std::array<double, 3> c{};
   for (int cls = 1; cls <= 3; ++cls) {
-    const Sums s = sums(cls);
+    const LatticeSums s = latticeSums(support, cls);
     double rest = s.poly6[size_t(cls)];
     for (int j = 1; j < cls; ++j) rest += s.poly6[size_t(j)] - c[size_t(j - 1)] * s.spiky[size_t(j)];
     c[size_t(cls - 1)] = rest / s.spiky[size_t(cls)];
@@ -104,19 +103,8 @@ std::array<double, 3> DFSPHSolver::spikyWallScales(double support) {
 }
 
 double DFSPHSolver::spikyDensityMassScale(double support) {
-  // Lattice sums in units of the spacing, around a site of a full lattice.
-  const double h = support, h2 = h * h;
-  const KernelFactors k = kernelFactors(h);
-  const int n = int(std::ceil(h));
-  double poly6 = 0, spiky = 0;
-  for (int x = -n; x <= n; ++x)
-    for (int y = -n; y <= n; ++y)
-      for (int z = -n; z <= n; ++z) {
-        const double r2 = double(x * x + y * y + z * z), r = std::sqrt(r2);
-        if (r2 < h2) poly6 += k.poly6 * std::pow(h2 - r2, 3);
-        if (r < h) spiky += -k.spikyGradient / 3 * std::pow(h - r, 3);
-      }
-  return poly6 / spiky;
+  const LatticeSums s = latticeSums(support, 0);  // a full lattice: every site in class 0
+  return s.poly6[0] / s.spiky[0];
 }
 
 int DFSPHSolver::listSlots(const Scene& scene) {
