@@ -1,9 +1,13 @@
 // `sphfx inspect SHOT`: the physics of a simulated shot read back from its caches (energy, fastest
-// particle, free surface, bulk density, closest approach to a wall) and the stability criteria's verdicts.
+// particle, free surface, bulk density, closest approach to a wall), the stability criteria's verdicts and
+// the solver's warnings.
 #include <fmt/format.h>
 
 #include <cmath>
 #include <cstdio>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "commands.h"
 #include "sphfx/core/error.h"
@@ -35,6 +39,23 @@ void printStates(const std::vector<study::FrameState>& states, double spacing, s
   }
 }
 
+// The solver's own warnings, from the manifest's per-frame entries (sim::FrameStats::warnings): a
+// frame's verdicts rest on results the solver could not trust there.
+void printSolverWarnings(const std::string& shot) {
+  const ManifestJson m = readManifest(shot);
+  std::vector<std::pair<int, std::string>> warnings;
+  for (const auto& f : m["simulate"].value("per_frame", ManifestJson::array()))
+    for (const auto& w : f.value("warnings", ManifestJson::array()))
+      warnings.emplace_back(f["frame"].get<int>(), w.get<std::string>());
+  if (warnings.empty()) {
+    std::printf("solver  no warnings\n");
+    return;
+  }
+  std::printf("solver  %zu warnings, frames %d to %d; the first, frame %d: %s\n", warnings.size(),
+              warnings.front().first, warnings.back().first, warnings.front().first,
+              warnings.front().second.c_str());
+}
+
 }  // namespace
 
 void addInspectCommand(CLI::App& app) {
@@ -58,6 +79,7 @@ void addInspectCommand(CLI::App& app) {
       std::printf("%-7s %s: %s (bound %s; worst at frame %d)\n", name.c_str(), r.passed ? "pass" : "FAIL",
                   r.measured.c_str(), r.bound.c_str(), r.worstFrame);
     }
+    printSolverWarnings(*shot);
   });
 }
 

@@ -15,6 +15,7 @@ void main() {
       dfIterMax[s] = 0u;
       dfErrorSum[s] = 0.0;
       dfErrorMax[s] = 0.0;
+      dfUnconverged[s] = 0u;
     }
 #endif
   bool open = dispatchArgs[uint(DFSPH_GATE_WORD)] != 0u;

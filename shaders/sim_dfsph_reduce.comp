@@ -1,7 +1,8 @@
 // DFSPH solver iteration, between source and apply: sums the work groups' residuals in a fixed order
 // (deterministic), and ends the solve on the GPU once the average error is within tolerance after
 // DFSPH_MIN_ITER corrections, or after DFSPH_MAX_ITER: it empties the solve's indirect dispatches, so
-// the CPU queues iterations without reading back each one. Records the solve in the frame statistics.
+// the CPU queues iterations without reading back each one. Records the solve in the frame statistics,
+// and counts it as unconverged when DFSPH_MAX_ITER stopped it above the tolerance.
 #include "sph_params.glsl"
 #include "sph_dfsph.glsl"
 layout(local_size_x = 256) in;
@@ -36,6 +37,7 @@ void main() {
     dfIterMax[S] = max(dfIterMax[S], it);
     dfErrorSum[S] += error;
     dfErrorMax[S] = max(dfErrorMax[S], error);
+    if (error > DFSPH_TOLERANCE) dfUnconverged[S] += 1u;  // stopped by DFSPH_MAX_ITER
   } else {
     dfIteration = it + 1u;
   }

@@ -27,9 +27,10 @@ layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_CONTROL) buffer DfsphControl {
   float dfErrorSum[2];  // final average error of each solve, summed
   float dfErrorMax[2];
   float dfLastError;
-  uint dfPad;
+  uint dfUnconverged[2];  // solves that stopped at DFSPH_MAX_ITER above their tolerance
   // Indirect dispatch arguments: source, reduce, apply; then their live values.
   uint dfArgs[18];
+  uint dfPad[3];  // the GL rounds the block's size up to 16 bytes
 };
 
 // Kernel gradient of every DFSPH sum (density change, factor, pressure corrections): the spiky gradient

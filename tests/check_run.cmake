@@ -17,10 +17,10 @@ foreach(expected "simulate: already complete" "0 frames surfaced" "0 frames rend
     message(FATAL_ERROR "second run did not skip (${expected}):\n${err}")
   endif()
 endforeach()
-# `sphfx inspect` reads the shot back: every frame's row and the criteria's verdicts; a folder without a
-# simulation is bad input (exit 2).
+# `sphfx inspect` reads the shot back: every frame's row, the criteria's verdicts and the solver's warnings
+# (none at the defaults); a folder without a simulation is bad input (exit 2).
 execute_process(COMMAND "${EXE}" inspect "${SHOT}" RESULT_VARIABLE code OUTPUT_VARIABLE out ERROR_VARIABLE err)
-foreach(expected "     4 " "energy " "walls " "speed ")
+foreach(expected "     4 " "energy " "walls " "speed " "solver  no warnings")
   string(FIND "${out}" "${expected}" pos)
   if(NOT code EQUAL 0 OR pos EQUAL -1)
     message(FATAL_ERROR "inspect (${code}) lacks \"${expected}\":\n${out}\n${err}")

@@ -58,6 +58,12 @@ void Progress::update(int64_t done, std::string_view detail) {
   print(done, detail, false);
 }
 
+void Progress::warn(std::string_view message) {
+  if (tty_ && gLevel >= LogLevel::Info) std::fputs("\r\033[K", stderr);
+  logWarning(message);
+  lastPrint_ = start_ - std::chrono::hours(1);  // redraw at the next update
+}
+
 void Progress::finish(std::string_view detail) {
   if (finished_) return;
   finished_ = true;

@@ -19,8 +19,8 @@ namespace {
 
 constexpr uint32_t kSourceEntry = 0, kReduceEntry = 1, kApplyEntry = 2;
 // std430 mirror of DfsphControl: scalars and uint/float arrays pack at 4 bytes.
-static_assert(offsetof(DfsphControl, lastError) == 48 && offsetof(DfsphControl, args) == 56 &&
-              sizeof(DfsphControl) == 128);
+static_assert(offsetof(DfsphControl, lastError) == 48 && offsetof(DfsphControl, args) == 60 &&
+              sizeof(DfsphControl) == 144);
 
 // Neighbours within q spacings of a particle in a full cubic lattice (self excluded).
 int latticeNeighbours(double q) {
@@ -334,19 +334,39 @@ DfsphFrameStats DFSPHSolver::readFrameStats() const {
   f.maxDensityError = c.errorMax[0];
   f.divergenceError = mean(c.errorSum[1], c.solves[1]);
   f.maxDivergenceError = c.errorMax[1];
+  f.unconvergedPressure = int(c.unconverged[0]);
+  f.unconvergedDivergence = int(c.unconverged[1]);
   return f;
 }
 
-std::vector<std::pair<std::string, double>> DFSPHSolver::frameStats() const {
+SolverFrameReport DFSPHSolver::frameReport() const {
   const DfsphFrameStats f = readFrameStats();
-  return {{"pressure_iterations_mean", f.pressureIterations},
-          {"pressure_iterations_max", f.maxPressureIterations},
-          {"divergence_iterations_mean", f.divergenceIterations},
-          {"divergence_iterations_max", f.maxDivergenceIterations},
-          {"density_error_mean", f.densityError},
-          {"density_error_max", f.maxDensityError},
-          {"divergence_error_mean", f.divergenceError},
-          {"divergence_error_max", f.maxDivergenceError}};
+  SolverFrameReport r;
+  r.stats = {{"pressure_iterations_mean", f.pressureIterations},
+             {"pressure_iterations_max", f.maxPressureIterations},
+             {"divergence_iterations_mean", f.divergenceIterations},
+             {"divergence_iterations_max", f.maxDivergenceIterations},
+             {"density_error_mean", f.densityError},
+             {"density_error_max", f.maxDensityError},
+             {"divergence_error_mean", f.divergenceError},
+             {"divergence_error_max", f.maxDivergenceError},
+             {"pressure_unconverged", f.unconvergedPressure},
+             {"divergence_unconverged", f.unconvergedDivergence}};
+  const DfsphSettings& d = settings_;
+  if (f.unconvergedPressure > 0)
+    r.warnings.push_back(fmt::format(
+        "{} of {} constant-density solves stopped at solver.dfsph.max_iterations ({}) above "
+        "solver.dfsph.max_density_error ({:.3g} %): mean density error up to {:.3g} %, so the particles "
+        "end the step compressed; a smaller time.dt_max (or more iterations) lets the solve converge",
+        f.unconvergedPressure, f.solves, d.maxIterations, 100 * d.maxDensityError, 100 * f.maxDensityError));
+  if (f.unconvergedDivergence > 0)
+    r.warnings.push_back(fmt::format(
+        "{} of {} divergence solves stopped at solver.dfsph.max_iterations ({}) above "
+        "solver.dfsph.max_divergence_error ({:.3g} %): error up to {:.3g} %; a smaller time.dt_max (or "
+        "more iterations) lets the solve converge",
+        f.unconvergedDivergence, f.solves, d.maxIterations, 100 * d.maxDivergenceError,
+        100 * f.maxDivergenceError));
+  return r;
 }
 
 }  // namespace sphfx::sim

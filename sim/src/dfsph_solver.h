@@ -40,8 +40,9 @@ struct DfsphControl {
   float errorSum[2];
   float errorMax[2];
   float lastError;
-  uint32_t pad;
-  uint32_t args[18];  ///< indirect arguments of source, reduce, apply; then their live values
+  uint32_t unconverged[2];  ///< solves that stopped at max_iterations above their tolerance
+  uint32_t args[18];        ///< indirect arguments of source, reduce, apply; then their live values
+  uint32_t pad[3];          ///< the GL rounds the block's size up to 16 bytes
 };
 
 /// DFSPH solve statistics of the frame simulated last.
@@ -54,6 +55,8 @@ struct DfsphFrameStats {
   double maxDensityError = 0;  ///< largest final average density error of a solve
   double divergenceError = 0;  ///< mean final average max(D rho/Dt, 0) / rho0 (1/s)
   double maxDivergenceError = 0;
+  /// Solves that max_iterations stopped above their tolerance (constant-density, divergence).
+  int unconvergedPressure = 0, unconvergedDivergence = 0;
 };
 
 class DFSPHSolver : public PressureSolver {
@@ -69,8 +72,9 @@ class DFSPHSolver : public PressureSolver {
   void computeAccelerations(PassTimer& timer) const override;
   void correctVelocities(PassTimer& timer) const override;
   void computeDensity(PassTimer& timer) const override;
-  /// Per-frame statistics for the manifest: mean iterations and final errors of both solvers.
-  std::vector<std::pair<std::string, double>> frameStats() const override;
+  /// Per-frame statistics for the manifest: mean iterations, final errors and unconverged solves of
+  /// both solvers; a warning for each solver whose max_iterations stopped a solve above its tolerance.
+  SolverFrameReport frameReport() const override;
 
   /// Neighbour-list slots per particle for `scene` (DFSPH_MAX_NEIGHBORS): twice the neighbours of its
   /// densest starting lattice; a particle with more fluid neighbours stops the run (kFailNeighbors).

@@ -27,6 +27,7 @@ ManifestJson frameJson(const FrameStats& f) {
   j["wall_seconds"] = f.wallSeconds;
   if (f.particles >= 0) j["particles"] = f.particles;
   for (const auto& [key, value] : f.solverStats) j[key] = value;
+  if (!f.warnings.empty()) j["warnings"] = f.warnings;
   return j;
 }
 
@@ -144,6 +145,7 @@ SimulationResult simulateShot(const Scene& scene, const SimulationOptions& o) {
     if (!resumed) output(FrameStats{scene.time.startFrame, 0, 0, 0, 0, 0});  // the initial state
     while (sim.frame() < last) {
       const FrameStats f = sim.advance();
+      for (const std::string& w : f.warnings) progress.warn(fmt::format("frame {}: {}", f.frame, w));
       result.frames.push_back(f);
       output(f);
       steps += f.substeps;

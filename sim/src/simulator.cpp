@@ -307,7 +307,9 @@ FrameStats Simulator::advance() {
   f.dtMin = s.dtLow;
   f.dtMax = s.dtHigh;
   f.dtMean = s.substeps ? s.dtSum / s.substeps : 0;
-  f.solverStats = solver_->frameStats();
+  SolverFrameReport report = solver_->frameReport();
+  f.solverStats = std::move(report.stats);
+  f.warnings = std::move(report.warnings);
   if (dynamic_) f.particles = int64_t(count_);
   f.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   return f;

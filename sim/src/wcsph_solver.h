@@ -17,6 +17,12 @@
 
 namespace sphfx::sim {
 
+/// What a solver reports about the frame just simulated.
+struct SolverFrameReport {
+  std::vector<std::pair<std::string, double>> stats;  ///< figures for the manifest's per-frame entry
+  std::vector<std::string> warnings;  ///< results the frame could not trust (a solve left unconverged)
+};
+
 /// Computes every particle's acceleration for the coming substep. When called, the simulator has bound
 /// the sorted particle arrays, the fluid and boundary grids, the state and the scene constants
 /// (shaders/sim_bindings.h); the solver writes SPHFX_SSBO_SIM_ACCEL and the reductions of SimState
@@ -32,9 +38,9 @@ class PressureSolver {
   /// Queued after the time step pass chose dt, before integration: predictor-corrector solvers (DFSPH's
   /// constant-density solve) correct the accelerations for that dt here. Default: nothing.
   virtual void correctVelocities(PassTimer& /*timer*/) const {}
-  /// Solver statistics of the frame just simulated, for the manifest's per-frame entry (may read back
-  /// from the GPU). Default: none.
-  virtual std::vector<std::pair<std::string, double>> frameStats() const { return {}; }
+  /// Solver statistics and warnings of the frame just simulated (may read back from the GPU). Default:
+  /// none.
+  virtual SolverFrameReport frameReport() const { return {}; }
 };
 
 class WCSPHSolver : public PressureSolver {

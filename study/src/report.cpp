@@ -254,7 +254,7 @@ void writeStudyReport(const StudySpec& spec, const std::vector<RunResult>& resul
                       runs.front()->primaryMetric);
     md += resultTable(runs) + budgetText(runs) + convergenceText(c, runs);
     for (const RunResult* r : runs)
-      if (r->outcome.status != RunStatus::Completed)
+      if (r->outcome.status != RunStatus::Completed || !r->outcome.message.empty())
         md +=
             fmt::format("\n- {} {}: {}", parameterText(*r), toString(r->outcome.status), r->outcome.message);
     md += "\n\n";

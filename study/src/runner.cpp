@@ -60,6 +60,19 @@ std::string checkCaches(const std::string& sceneFile, const std::string& shotDir
   return {};
 }
 
+// The frames whose manifest entries carry solver warnings (sim::FrameStats::warnings), and the first.
+std::string solverWarningsText(const ManifestJson& simulate) {
+  int frames = 0;
+  std::string first;
+  for (const auto& f : simulate.value("per_frame", ManifestJson::array())) {
+    const auto warnings = f.value("warnings", ManifestJson::array());
+    if (warnings.empty()) continue;
+    if (frames++ == 0)
+      first = fmt::format("frame {}: {}", f.value("frame", 0), warnings[0].get<std::string>());
+  }
+  return frames ? fmt::format("solver warnings in {} frames; the first, {}", frames, first) : "";
+}
+
 void readSimulatorFigures(const std::string& shotDir, RunOutcome& out) {
   try {
     const ManifestJson m = readManifest(shotDir);
@@ -70,6 +83,7 @@ void readSimulatorFigures(const std::string& shotDir, RunOutcome& out) {
     if (s.contains("substeps") && s["substeps"].is_number()) out.substeps = s["substeps"].get<long>();
     if (s.contains("dt") && s["dt"].contains("mean") && s["dt"]["mean"].is_number())
       out.dtMean = s["dt"]["mean"].get<double>();
+    out.solverWarnings = solverWarningsText(s);
   } catch (const Error&) {
     // A run killed mid-write has no usable manifest; the process figures stand.
   }
@@ -140,7 +154,7 @@ RunOutcome runSimulation(const std::string& sphfxExe, const std::string& sceneFi
   } else if (out.exitCode == 0) {
     const std::string garbage = checkCaches(sceneFile, shotDir);
     out.status = garbage.empty() ? RunStatus::Completed : RunStatus::Failed;
-    if (!garbage.empty()) out.message = "completed but wrote garbage: " + garbage;
+    out.message = garbage.empty() ? out.solverWarnings : "completed but wrote garbage: " + garbage;
   } else if (out.message.empty()) {
     out.message = fmt::format("exit code {}", out.exitCode);
   }

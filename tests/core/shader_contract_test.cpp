@@ -164,8 +164,9 @@ std::map<std::string, Mirror> mirrors() {
                      SPHFX_GPU_MEMBER(C, errorSum, "dfErrorSum[0]"),
                      SPHFX_GPU_MEMBER(C, errorMax, "dfErrorMax[0]"),
                      SPHFX_GPU_MEMBER(C, lastError, "dfLastError"),
-                     SPHFX_GPU_MEMBER(C, pad, "dfPad"),
-                     SPHFX_GPU_MEMBER(C, args, "dfArgs[0]")};
+                     SPHFX_GPU_MEMBER(C, unconverged, "dfUnconverged[0]"),
+                     SPHFX_GPU_MEMBER(C, args, "dfArgs[0]"),
+                     SPHFX_GPU_MEMBER(C, pad, "dfPad[0]")};
   m.emplace("DfsphControl", Mirror{control, 0});
   return m;
 }

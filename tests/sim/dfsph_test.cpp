@@ -21,6 +21,7 @@
 #include "sim_shaders.h"
 #include "sim_test_util.h"
 #include "simulator.h"
+#include "sphfx/core/manifest.h"
 #include "sphfx/core/particle_cache.h"
 #include "sphfx/core/scene.h"
 #include "sphfx/gpu/gl_context.h"
@@ -309,6 +310,43 @@ TEST_F(DFSPH, FirstStepsFromRestMeetTheDensityTolerance) {
     EXPECT_LE(stat(f, "density_error_max"), s.solver.dfsph.maxDensityError) << "frame " << f.frame;
     EXPECT_LE(stat(f, "divergence_error_max"), s.solver.dfsph.maxDivergenceError) << "frame " << f.frame;
     EXPECT_LT(stat(f, "pressure_iterations_max"), s.solver.dfsph.maxIterations) << "frame " << f.frame;
+  }
+}
+
+// A solve that max_iterations stops above its tolerance is counted and reported, not passed off as
+// converged: in every frame, the count of unconverged constant-density solves is non-zero exactly when
+// the largest final density error of the frame's solves is above the tolerance, and then the frame's
+// largest iteration count is max_iterations and the manifest's entry carries a warning that names it.
+// At 2 iterations the first steps from rest cannot build the column's pressure (they need 72 at the
+// default spacing); at the defaults no solve is left unconverged.
+TEST_F(DFSPH, SolvesStoppedAboveTheirToleranceAreCountedAndReported) {
+  for (const int maxIterations : {2, 200}) {
+    const Scene s = scene("dam_break.json", {"fluid.spacing=0.02", "time.end_frame=4",
+                                             fmt::format("solver.dfsph.max_iterations={}", maxIterations)});
+    const std::string shot =
+        test::simulateTestShot(fmt::format("dfsph_unconverged_{}", maxIterations), s, false);
+    const ManifestJson manifest = readManifest(shot);
+    int unconverged = 0;
+    for (const auto& f : manifest["simulate"]["per_frame"]) {
+      if (f["substeps"].get<int>() == 0) continue;
+      const int frame = f["frame"].get<int>(), count = f["pressure_unconverged"].get<int>();
+      SCOPED_TRACE(fmt::format("max_iterations {}, frame {}", maxIterations, frame));
+      EXPECT_EQ(count > 0, f["density_error_max"].get<double>() > s.solver.dfsph.maxDensityError);
+      EXPECT_LE(count, f["substeps"].get<int>());
+      EXPECT_EQ(f.contains("warnings"), count > 0 || f["divergence_unconverged"].get<int>() > 0);
+      if (count > 0) {
+        EXPECT_EQ(f["pressure_iterations_max"].get<int>(), maxIterations);
+        const std::string warning = f["warnings"][0].get<std::string>();
+        EXPECT_NE(warning.find(fmt::format("solver.dfsph.max_iterations ({})", maxIterations)),
+                  std::string::npos)
+            << warning;
+      }
+      unconverged += count;
+    }
+    if (maxIterations == 2)
+      EXPECT_GT(unconverged, 0) << "2 iterations cannot build the column's pressure";
+    else
+      EXPECT_EQ(unconverged, 0);
   }
 }
 

@@ -34,6 +34,8 @@ class Progress {
 
   /// Reports `done` items finished, with an optional detail text (rates, current item).
   void update(int64_t done, std::string_view detail = {});
+  /// Logs `message` as a warning on a line of its own (a terminal's progress line is redrawn after it).
+  void warn(std::string_view message);
   /// Ends the line (prints the final state once).
   void finish(std::string_view detail = {});
 

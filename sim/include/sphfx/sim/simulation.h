@@ -23,6 +23,9 @@ struct FrameStats {
   double wallSeconds = 0;
   int64_t particles = -1;  ///< particles at the frame's end; -1: the scene's count never changes
   std::vector<std::pair<std::string, double>> solverStats;  ///< the pressure solver's, name and value
+  /// What the solver could not trust in this frame (e.g. a DFSPH solve stopped above its tolerance):
+  /// logged as warnings and kept in the manifest's per-frame entry.
+  std::vector<std::string> warnings;
 };
 
 struct SimulationOptions {

@@ -75,7 +75,11 @@ struct RunOutcome {
   RunStatus status = RunStatus::Failed;
   int exitCode = -1;
   double wallSeconds = 0;  ///< the simulator's own figure from the manifest if present, else the process's
-  std::string message;     ///< the error line for stopped or failed runs
+  /// The error line for stopped or failed runs; for completed runs, solverWarnings.
+  std::string message;
+  /// From the manifest: how many frames carry solver warnings (a DFSPH solve stopped above its
+  /// tolerance) and the first; empty when none does.
+  std::string solverWarnings;
   std::string shotDir;
   long substeps = 0;
   double dtMean = 0;
