@@ -5,8 +5,12 @@
 // on health.max_density_ratio compresses (docs/validation.md, "Known limits"). With --near-walls the number
 // of particles within 0.1 and 0.25 spacings of the domain's walls (the shot's manifest.json gives the domain;
 // a resting first layer sits at 0.5 spacings): how deep the fluid is pressed into the walls
-// (docs/design.md, "Boundaries"), and the five closest particles with their wall.
-//   cache_speeds SHOT FRAME... [--top N] [--densest N] [--near-walls]
+// (docs/design.md, "Boundaries"), and the five closest particles with their wall. With --layers, for a
+// fluid at rest that fills the domain's floor: the particles sorted by height in layers of A / s^2 (A the
+// floor's area), each layer's mean height, and the gaps between them in spacings: how much of a resting
+// column's surface drift is the bottom layer's, the bulk's compression and the top layer's
+// (docs/validation.md, "Known limits").
+//   cache_speeds SHOT FRAME... [--top N] [--densest N] [--near-walls] [--layers]
 #include <algorithm>
 #include <array>
 #include <charconv>
@@ -97,8 +101,33 @@ void reportNearWalls(const sphfx::Domain& w, const sphfx::ParticleFrame& f) {
   }
 }
 
-void report(const std::string& shot, int frameNumber, size_t top, size_t densest,
-            const sphfx::Domain* walls) {
+double mean(const std::vector<double>& v, size_t first, size_t last) {
+  return std::accumulate(v.begin() + long(first), v.begin() + long(last), 0.0) / double(last - first);
+}
+
+// Layers of floorCount particles by height: the bottom layer above the floor, the mean gap between
+// neighbouring layers in the lower, middle and upper third of the column, and the top layer's gap.
+void reportLayers(const sphfx::Domain& w, const sphfx::ParticleFrame& f) {
+  const double s = f.particleSpacing;
+  const auto floorCount = size_t(std::lround((w.max[0] - w.min[0]) * (w.max[2] - w.min[2]) / (s * s)));
+  const size_t layers = floorCount ? f.size() / floorCount : 0;
+  if (layers < 6) throw std::runtime_error("--layers needs at least 6 layers of A / s^2 particles");
+  std::vector<double> y(f.size());
+  for (size_t i = 0; i < f.size(); ++i) y[i] = (double(f.position[i][1]) - w.min[1]) / s;
+  std::sort(y.begin(), y.end());
+  std::vector<double> height(layers), gap(layers - 1);
+  for (size_t k = 0; k < layers; ++k) height[k] = mean(y, k * floorCount, (k + 1) * floorCount);
+  for (size_t k = 0; k + 1 < layers; ++k) gap[k] = height[k + 1] - height[k];
+  const size_t inner = layers - 2, third = inner / 3;  // gaps 0 .. layers - 3: below the top layer
+  std::printf(
+      "  layers %zu of %zu particles: bottom %.4f s above the floor, top %.4f s; gaps (s): lower "
+      "third %.4f, middle %.4f, upper third %.4f, top layer %.4f\n",
+      layers, floorCount, height[0], height[layers - 1], mean(gap, 0, third), mean(gap, third, inner - third),
+      mean(gap, inner - third, inner), gap[layers - 2]);
+}
+
+void report(const std::string& shot, int frameNumber, size_t top, size_t densest, const sphfx::Domain& domain,
+            bool nearWalls, bool layers) {
   const std::string path = sphfx::particleCachePath(shot, frameNumber);
   const sphfx::ParticleFrame f = sphfx::readParticleCache(path);
   const std::vector<size_t> fastest = largest(f.size(), top, [&](size_t i) { return speed(f.velocity[i]); });
@@ -110,7 +139,8 @@ void report(const std::string& shot, int frameNumber, size_t top, size_t densest
   std::printf("frame %d  t %.3f s  particles %zu  |v| > 3 m/s: %zu  |v| > 5 m/s: %zu\n", frameNumber, f.time,
               f.size(), over3, over5);
   for (size_t i : fastest) printParticle("|v|", speed(f.velocity[i]), f, i);
-  if (walls) reportNearWalls(*walls, f);
+  if (nearWalls) reportNearWalls(domain, f);
+  if (layers) reportLayers(domain, f);
   if (densest == 0) return;
   if (f.density.size() != f.size())
     throw std::runtime_error(path + " stores no density: add \"density\" to the scene's cache.attributes");
@@ -142,11 +172,12 @@ int parseFrame(const std::string& text) {
 int main(int argc, char** argv) {
   try {
     if (argc < 3) {
-      std::fprintf(stderr, "usage: cache_speeds SHOT FRAME... [--top N] [--densest N] [--near-walls]\n");
+      std::fprintf(stderr,
+                   "usage: cache_speeds SHOT FRAME... [--top N] [--densest N] [--near-walls] [--layers]\n");
       return 2;
     }
     size_t top = 6, densest = 0;
-    bool nearWalls = false;
+    bool nearWalls = false, layers = false;
     std::vector<int> frames;
     for (int i = 2; i < argc; ++i) {
       if (std::string(argv[i]) == "--top" && i + 1 < argc)
@@ -155,11 +186,13 @@ int main(int argc, char** argv) {
         densest = size_t(parseCount(argv[++i], "a count after --densest"));
       else if (std::string(argv[i]) == "--near-walls")
         nearWalls = true;
+      else if (std::string(argv[i]) == "--layers")
+        layers = true;
       else
         frames.push_back(parseFrame(argv[i]));
     }
-    const sphfx::Domain walls = nearWalls ? readDomain(argv[1]) : sphfx::Domain{};
-    for (int frame : frames) report(argv[1], frame, top, densest, nearWalls ? &walls : nullptr);
+    const sphfx::Domain domain = nearWalls || layers ? readDomain(argv[1]) : sphfx::Domain{};
+    for (int frame : frames) report(argv[1], frame, top, densest, domain, nearWalls, layers);
     return 0;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "cache_speeds: %s\n", e.what());

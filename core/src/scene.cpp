@@ -261,6 +261,13 @@ std::shared_ptr<const Object<DfsphSettings>> dfsphSchema() {
         .number("fall_factor", &DfsphSettings::fallFactor, 0.15, "", Range{0, 10, true, false},
                 "CFL mode: the non-pressure acceleration's displacement per step, |a|max dt^2 <= factor * "
                 "spacing. It bounds the first steps from rest; 0.4 allows 16.7 ms at spacing 0.01.")
+        .number("depth_step_factor", &DfsphSettings::depthStepFactor, 0, "", Range::closed(0, 10),
+                "CFL mode: caps the step at this factor times spacing / sqrt(|g| H), H the domain's extent "
+                "along gravity (sqrt(g H): the speed of gravity waves in the deepest column the domain "
+                "holds); 0 leaves the cap out. A resting column of depth H grows once the step passes about "
+                "spacing / sqrt(g H), at any spacing; 0.8 settles the 0.3 m tank at spacings 0.01 and 0.005 "
+                "(4.0 and 2.0 ms in its 0.4 m domain), and much smaller steps leave it noisier "
+                "(docs/validation.md).")
         .check([](const DfsphSettings& d, const Json&, const std::string& path) {
           const int least = std::max(d.minIterations, d.minDivergenceIterations);
           if (least > d.maxIterations)
@@ -723,6 +730,16 @@ void checkPeriodic(const Scene& s, const Json&, const std::string&) {
   }
 }
 
+/// DFSPH's depth cap bounds CFL steps: with fixed steps nothing would read it.
+void checkDfsphDepthStep(const Scene& s, const Json&, const std::string&) {
+  if (s.solver.method == Solver::DFSPH && s.time.mode == TimeStepMode::Fixed &&
+      s.solver.dfsph.depthStepFactor > 0)
+    throw SchemaError("/solver/dfsph/depth_step_factor",
+                      "expected 0 with time.dt_mode \"fixed\" (the cap bounds CFL steps), got " +
+                          fmt::format("{}", s.solver.dfsph.depthStepFactor) +
+                          "; remove the key or use CFL mode");
+}
+
 /// DFSPH's constraint walls: a wall sample's share on the resting lattice assumes the domain's walls.
 /// The spiky density is solved with them only (with push walls it bursts in the first frame, design.md).
 void checkDfsphWalls(const Scene& s, const Json&, const std::string&) {
@@ -818,6 +835,7 @@ std::shared_ptr<const Object<Scene>> buildSceneSchema() {
           checkPeriodic(s, raw, path);
           checkEmittersAndRemoval(s, raw, path);
           checkDfsphWalls(s, raw, path);
+          checkDfsphDepthStep(s, raw, path);
         });
   });
 }
@@ -879,6 +897,16 @@ bool Scene::hasCacheAttribute(CacheAttribute a) const {
 
 double Scene::soundSpeed() const {
   return solver.wcsph.eos == EquationOfState::Tait ? solver.speedOfSound : std::sqrt(solver.wcsph.stiffness);
+}
+
+double Scene::dfsphDepthStep() const {
+  const double factor = solver.dfsph.depthStepFactor;
+  const double g = std::hypot(gravity[0], gravity[1], gravity[2]);
+  if (solver.method != Solver::DFSPH || time.mode != TimeStepMode::Cfl || factor <= 0 || g <= 0)
+    return std::numeric_limits<double>::infinity();
+  double depth = 0;  // the extent along g of the domain's box: sum_k |g_k / |g|| (max_k - min_k)
+  for (size_t k = 0; k < 3; ++k) depth += std::fabs(gravity[k]) / g * (domain.max[k] - domain.min[k]);
+  return factor * fluid.spacing / std::sqrt(g * depth);
 }
 
 double Scene::wallViscosityMultiple() const {
@@ -1228,7 +1256,8 @@ Json sceneIdentityJson(const Scene& scene) {
   if (j["solver"].contains("dfsph")) {
     Json& dfsph = j["solver"]["dfsph"];
     if (dfsph.value("walls", "") == "push") dfsph.erase("walls");  // the only walls before the choice existed
-    if (dfsph.value("density_kernel", "") == "poly6") dfsph.erase("density_kernel");  // likewise
+    if (dfsph.value("density_kernel", "") == "poly6") dfsph.erase("density_kernel");     // likewise
+    if (dfsph.value("depth_step_factor", 0.0) == 0.0) dfsph.erase("depth_step_factor");  // likewise
   }
   for (Json& c : j["colliders"])
     for (Json& k : c["keyframes"])

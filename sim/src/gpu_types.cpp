@@ -122,7 +122,7 @@ SimParams makeSimParams(const Scene& scene, uint32_t particles, uint32_t boundar
                                                          : scene.solver.wcsph.forceFactor);
   p.step[3] = fixed ? float(scene.time.dt) : 0.0f;
   p.limits[0] = float(scene.time.dtMin);
-  p.limits[1] = float(scene.time.dtMax);
+  p.limits[1] = float(std::min(scene.time.dtMax, scene.dfsphDepthStep()));
   p.limits[2] = float(scene.health.maxDensityRatio * rho0);
   p.limits[3] = float(scene.health.maxSpeed);
   p.counts[0] = particles;

@@ -284,3 +284,32 @@ TEST(Scene, IdentityLeavesOutAWallSpeedEqualToTheFluidsAlphaC) {
   EXPECT_FALSE(sceneIdentityJson(parseScene(minimal(), "x.json"))["fluid"].contains("wall_viscosity_speed"))
       << "the defaults: 0.6 m/s = 0.02 x 30 m/s";
 }
+
+// solver.dfsph.depth_step_factor caps DFSPH's CFL step at factor d / sqrt(|g| H), H the domain's extent
+// along gravity (here tilted: 0.6 g along y and 0.8 g along x), and only there: factor 0, WCSPH and fixed
+// steps have no cap. A scene without the key keeps its identity (the runs before the key existed).
+TEST(Scene, DfsphDepthStepIsTheGravityWaveCrossingOfTheDomain) {
+  Json raw = minimal();  // domain [0, 1]^3 by default
+  raw["domain"] = Json::parse(R"({"min": [0, 0, 0], "max": [0.5, 2.0, 1.0]})");
+  raw["gravity"] = Json::array({-8.0, -6.0, 0.0});  // |g| = 10
+  raw["fluid"]["spacing"] = 0.02;
+  raw["solver"]["method"] = "dfsph";
+  EXPECT_TRUE(std::isinf(parseScene(raw, "x.json").dfsphDepthStep())) << "the default factor 0: no cap";
+  EXPECT_FALSE(sceneIdentityJson(parseScene(raw, "x.json"))["solver"]["dfsph"].contains("depth_step_factor"));
+  raw["solver"]["dfsph"]["depth_step_factor"] = 0.4;
+  const double depth = 0.8 * 0.5 + 0.6 * 2.0;  // the box's extent along g / |g|
+  EXPECT_NEAR(parseScene(raw, "x.json").dfsphDepthStep(), 0.4 * 0.02 / std::sqrt(10 * depth), 1e-15);
+  EXPECT_EQ(sceneIdentityJson(parseScene(raw, "x.json"))["solver"]["dfsph"]["depth_step_factor"], 0.4);
+  Json fixed = raw;
+  fixed["time"]["dt_mode"] = "fixed";
+  EXPECT_NE(errorOf(fixed).find("/solver/dfsph/depth_step_factor: expected 0 with time.dt_mode \"fixed\""),
+            std::string::npos)
+      << errorOf(fixed);
+  fixed["solver"]["dfsph"].erase("depth_step_factor");
+  EXPECT_TRUE(std::isinf(parseScene(fixed, "x.json").dfsphDepthStep()));
+  Json weightless = raw;
+  weightless["gravity"] = Json::array({0, 0, 0});
+  EXPECT_TRUE(std::isinf(parseScene(weightless, "x.json").dfsphDepthStep()));
+  Json wcsph = minimal();
+  EXPECT_TRUE(std::isinf(parseScene(wcsph, "x.json").dfsphDepthStep()));
+}

@@ -113,6 +113,8 @@ struct DfsphSettings {
   double densityWallPush = 0;      ///< wall samples' weight in the constant-density solve (push walls)
   double freeSurfaceFraction = 0;  ///< below this share of a full neighbourhood: no divergence estimate
   double fallFactor = 0;           ///< CFL mode: |a|max dt^2 <= fallFactor * spacing
+  /// CFL mode: dt <= depthStepFactor * spacing / sqrt(|g| H), H the domain's extent along gravity (0: off)
+  double depthStepFactor = 0;
 };
 
 struct SolverSettings {
@@ -272,6 +274,10 @@ struct Scene {
   /// fluid.wall_viscosity_speed over the fluid's artificial_viscosity times soundSpeed() (the scene check
   /// rejects a fluid alpha of 0 with walls that have a viscosity of their own).
   double wallViscosityMultiple() const;
+  /// DFSPH's depth cap on the step in CFL mode (s): solver.dfsph.depth_step_factor times the spacing over
+  /// sqrt(|g| H), H the domain's extent along gravity; infinity without the cap (factor 0, no gravity,
+  /// fixed steps or WCSPH).
+  double dfsphDepthStep() const;
   /// True if the particle count can change during the run (emitters, kill boxes or open faces).
   bool changesParticleCount() const { return !emitters.empty() || !kill.empty() || !domain.open.empty(); }
 };

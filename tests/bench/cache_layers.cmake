@@ -1,0 +1,20 @@
+# bench/cache_speeds --layers on a shot's first frame, the fluid block's cubic lattice: every layer of
+# A / s^2 particles lies one spacing above the one below, the bottom one half a spacing above the floor
+# (here at y = -0.1 m, so the heights are measured from the domain's floor, not from y = 0).
+file(REMOVE_RECURSE "${SHOT}")
+execute_process(COMMAND "${SPHFX}" -q simulate "${SCENE}" -o "${SHOT}" --set fluid.spacing=0.02
+                        --set "domain.min=[0,-0.1,0]" --set time.end_frame=1
+                        --set "fluid.blocks=[{\"shape\":\"box\",\"min\":[0,-0.1,0],\"max\":[0.2,0.2,0.2]}]"
+                RESULT_VARIABLE code ERROR_VARIABLE err)
+if(NOT code EQUAL 0)
+  message(FATAL_ERROR "simulate failed (${code}):\n${err}")
+endif()
+execute_process(COMMAND "${CACHE_SPEEDS}" "${SHOT}" 1 --top 0 --layers RESULT_VARIABLE code OUTPUT_VARIABLE out
+                ERROR_VARIABLE err)
+# Quoted pieces: a semicolon in an unquoted CMake argument would split it.
+string(CONCAT expected "layers 15 of 100 particles: bottom 0.5000 s above the floor, top 14.5000 s; "
+       "gaps (s): lower third 1.0000, middle 1.0000, upper third 1.0000, top layer 1.0000")
+string(FIND "${out}" "${expected}" pos)
+if(NOT code EQUAL 0 OR pos EQUAL -1)
+  message(FATAL_ERROR "cache_speeds --layers (${code}) lacks \"${expected}\":\n${out}\n${err}")
+endif()
