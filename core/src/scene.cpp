@@ -266,8 +266,8 @@ std::shared_ptr<const Object<DfsphSettings>> dfsphSchema() {
                 "along gravity (sqrt(g H): the speed of gravity waves in the deepest column the domain "
                 "holds); 0 leaves the cap out. A resting column of depth H grows once the step passes about "
                 "spacing / sqrt(g H), at any spacing. With density_warm_share 0, 0.4 (2.0 and 1.0 ms in its "
-                "0.4 m domain) settles the 0.3 m tank at spacing 0.01 over 10 s and calms it at 0.005 over "
-                "the 0.6 s measured; a warm-started solve is noisier well below the rule (share 0.5 needs "
+                "0.4 m domain) settles the 0.3 m tank at spacing 0.01 over 10 s and at 0.005 over the 2 s "
+                "measured; a warm-started solve is noisier well below the rule (share 0.5 needs "
                 "0.8; docs/validation.md).")
         .check([](const DfsphSettings& d, const Json&, const std::string& path) {
           const int least = std::max(d.minIterations, d.minDivergenceIterations);
