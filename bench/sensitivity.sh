@@ -6,14 +6,16 @@
 # The parameters: Monaghan's alpha, the speed of sound (WCSPH's EOS; both solvers' viscosity), the
 # walls' drag (fluid.wall_viscosity_factor, which multiplies fluid.wall_viscosity_speed; left out when
 # the common options set it), the time step's factors (time.cfl_factor; WCSPH's force factor, DFSPH's
-# fall factor), DFSPH's density tolerance and its walls' push (1.5; its range ends, 1 and 1.75, instead:
-# x 2 diverges).
+# fall factor and depth cap), and DFSPH's density tolerance.
 #
-#   sh bench/sensitivity.sh [BUILD_DIR] [OUT_DIR] ["--set KEY=VALUE ..." applied to every run]
+#   sh bench/sensitivity.sh [BUILD_DIR] [OUT_DIR] ["--set KEY=VALUE ..." applied to every run] [SOLVERS]
+#
+# SOLVERS: "wcsph dfsph" (default), or one of them.
 set -eu
 build=${1:-build}
 out=${2:-sensitivity}
 common=${3:-}
+solvers=${4:-wcsph dfsph}
 scene=studies/scenes/dam_break.json
 mkdir -p "$out"
 run() {
@@ -33,36 +35,42 @@ case "$common" in
   *wall_viscosity_factor*) wall_factor=no ;;
   *) wall_factor=yes ;;
 esac
-run wcsph
-run wcsph_alpha_0.01 --set fluid.artificial_viscosity=0.01
-run wcsph_alpha_0.04 --set fluid.artificial_viscosity=0.04
-run wcsph_c_12.5 --set solver.speed_of_sound=12.5
-run wcsph_c_50 --set solver.speed_of_sound=50
-run wcsph_cfl_0.2 --set time.cfl_factor=0.2
-run wcsph_cfl_0.8 --set time.cfl_factor=0.8
-run wcsph_force_0.125 --set solver.wcsph.force_factor=0.125
-run wcsph_force_0.5 --set solver.wcsph.force_factor=0.5
-if [ "$wall_factor" = yes ]; then
-  run wcsph_wallvisc_0.5 --set fluid.wall_viscosity_factor=0.5
-  run wcsph_wallvisc_2 --set fluid.wall_viscosity_factor=2
-fi
-run dfsph --set solver.method=dfsph
-run dfsph_alpha_0.01 --set solver.method=dfsph --set fluid.artificial_viscosity=0.01
-run dfsph_alpha_0.04 --set solver.method=dfsph --set fluid.artificial_viscosity=0.04
-run dfsph_c_12.5 --set solver.method=dfsph --set solver.speed_of_sound=12.5
-run dfsph_c_50 --set solver.method=dfsph --set solver.speed_of_sound=50
-run dfsph_cfl_0.2 --set solver.method=dfsph --set time.cfl_factor=0.2
-run dfsph_cfl_0.8 --set solver.method=dfsph --set time.cfl_factor=0.8
-run dfsph_fall_0.075 --set solver.method=dfsph --set solver.dfsph.fall_factor=0.075
-run dfsph_fall_0.3 --set solver.method=dfsph --set solver.dfsph.fall_factor=0.3
-run dfsph_error_0.0005 --set solver.method=dfsph --set solver.dfsph.max_density_error=0.0005
-run dfsph_error_0.002 --set solver.method=dfsph --set solver.dfsph.max_density_error=0.002
-run dfsph_wallpush_1 --set solver.method=dfsph --set solver.dfsph.density_wall_push=1
-run dfsph_wallpush_1.75 --set solver.method=dfsph --set solver.dfsph.density_wall_push=1.75
-if [ "$wall_factor" = yes ]; then
-  run dfsph_wallvisc_0.5 --set solver.method=dfsph --set fluid.wall_viscosity_factor=0.5
-  run dfsph_wallvisc_2 --set solver.method=dfsph --set fluid.wall_viscosity_factor=2
-fi
+case " $solvers " in *" wcsph "*)
+  run wcsph
+  run wcsph_alpha_0.01 --set fluid.artificial_viscosity=0.01
+  run wcsph_alpha_0.04 --set fluid.artificial_viscosity=0.04
+  run wcsph_c_12.5 --set solver.speed_of_sound=12.5
+  run wcsph_c_50 --set solver.speed_of_sound=50
+  run wcsph_cfl_0.2 --set time.cfl_factor=0.2
+  run wcsph_cfl_0.8 --set time.cfl_factor=0.8
+  run wcsph_force_0.125 --set solver.wcsph.force_factor=0.125
+  run wcsph_force_0.5 --set solver.wcsph.force_factor=0.5
+  if [ "$wall_factor" = yes ]; then
+    run wcsph_wallvisc_0.5 --set fluid.wall_viscosity_factor=0.5
+    run wcsph_wallvisc_2 --set fluid.wall_viscosity_factor=2
+  fi
+  ;;
+esac
+case " $solvers " in *" dfsph "*)
+  run dfsph --set solver.method=dfsph
+  run dfsph_alpha_0.01 --set solver.method=dfsph --set fluid.artificial_viscosity=0.01
+  run dfsph_alpha_0.04 --set solver.method=dfsph --set fluid.artificial_viscosity=0.04
+  run dfsph_c_12.5 --set solver.method=dfsph --set solver.speed_of_sound=12.5
+  run dfsph_c_50 --set solver.method=dfsph --set solver.speed_of_sound=50
+  run dfsph_cfl_0.2 --set solver.method=dfsph --set time.cfl_factor=0.2
+  run dfsph_cfl_0.8 --set solver.method=dfsph --set time.cfl_factor=0.8
+  run dfsph_fall_0.075 --set solver.method=dfsph --set solver.dfsph.fall_factor=0.075
+  run dfsph_fall_0.3 --set solver.method=dfsph --set solver.dfsph.fall_factor=0.3
+  run dfsph_error_0.0005 --set solver.method=dfsph --set solver.dfsph.max_density_error=0.0005
+  run dfsph_error_0.002 --set solver.method=dfsph --set solver.dfsph.max_density_error=0.002
+  run dfsph_depth_0.2 --set solver.method=dfsph --set solver.dfsph.depth_step_factor=0.2
+  run dfsph_depth_0.8 --set solver.method=dfsph --set solver.dfsph.depth_step_factor=0.8
+  if [ "$wall_factor" = yes ]; then
+    run dfsph_wallvisc_0.5 --set solver.method=dfsph --set fluid.wall_viscosity_factor=0.5
+    run dfsph_wallvisc_2 --set solver.method=dfsph --set fluid.wall_viscosity_factor=2
+  fi
+  ;;
+esac
 python3 - "$out" <<'PY'
 import glob, os, sys
 out = sys.argv[1]
@@ -70,6 +78,8 @@ def load(name):
     rows = [line.split() for line in open(os.path.join(out, name + ".front"))]
     return {int(f): (float(t), float(x)) for f, t, x in rows}
 for base in ("wcsph", "dfsph"):
+    if not os.path.exists(os.path.join(out, base + ".front")):
+        continue
     ref = load(base)
     for path in sorted(glob.glob(os.path.join(out, base + "_*")), key=os.path.basename):
         name = os.path.basename(path)

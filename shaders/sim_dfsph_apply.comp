@@ -61,6 +61,6 @@ void main() {
   vel[i] = vec4(v.xyz + stateDt * dv, total);
   // The cache's pressure (p / rho^2): both solves support the fluid, the divergence solve by a velocity
   // impulse K per step, i.e. the pressure acceleration K / dt.
-  densityPressure[i].y = total + f.w / stateDt;
+  densityPressure[i].y = DFSPH_PRESSURE_SCALE * (total + f.w / stateDt);
 #endif
 }

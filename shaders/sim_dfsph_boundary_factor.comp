@@ -4,15 +4,23 @@
 // fluid by -k_b psi_b grad W(x_f - x_b), the gradient of the constraint, so the walls' pressure does no
 // work on motion that keeps the constraints (as the WCSPH walls' own pressure, sim_boundary_pressure.comp).
 // Writes dfsph[N + b]: x the inverse Jacobi diagonal (0: no fluid near), y S_b - T_b, z the warm start
-// (the density solve's warm share of the last total), w T_b. Walls only: a sample's T_b is the share of
-// a fluid filling the domain (colliders are rejected with constraint walls), and the samples keep their
-// sorted order between substeps (the warm start and T_b are per sorted index).
+// (the density solve's warm share of the last total), w T_b.
+// Without colliders, T_b is the share of a fluid filling the domain on its lattice, and the samples keep
+// their sorted order between substeps (the warm start and T_b are per sorted index).
 // DFSPH_BOUNDARY_REST_SHARE: the variant that writes T_b alone, once per solver (DFSPHSolver::
 // computeDensity): T_b is a lattice sum of 216 kernels that never changes.
+// With colliders (HAS_COLLIDERS), the samples are placed and re-sorted every substep
+// (sim_boundary_update.comp), so nothing is kept per sorted index: T_b is recomputed here for every
+// sample near fluid, as the share of the sites x_b + n s (the lattice the sample's own layer continues)
+// that lie inside the domain and outside every collider at the substep's start, and the samples' solve
+// starts cold.
 #define DFSPH_LIST_READ
 #include "sph_params.glsl"
 #include "sph_neighbors.glsl"
 #include "sph_dfsph.glsl"
+#if defined(HAS_COLLIDERS)
+#include "sph_colliders.glsl"
+#endif
 layout(local_size_x = SIM_WG) in;
 
 // The share of a fluid filling the domain on its lattice (sites min + (k + 1/2) s).
@@ -29,6 +37,29 @@ float restShare(vec3 xb) {
       }
   return sum;
 }
+
+#if defined(HAS_COLLIDERS)
+// The share of the fluid sites x_b + n s, |n_k| <= DFSPH_REST_REACH (ceil of the kernel support), that
+// lie inside the domain and outside each of the DFSPH_COLLIDERS colliders placed at the substep's start.
+float restShareAmongColliders(vec3 xb) {
+  const float s = DFSPH_SPACING;
+  const int reach = DFSPH_REST_REACH;
+  SphColliderPose poses[DFSPH_COLLIDERS];
+  for (uint c = 0u; c < uint(DFSPH_COLLIDERS); ++c) poses[c] = sphColliderPose(c, float(stateTime));
+  float sum = 0.0;
+  for (int x = -reach; x <= reach; ++x)
+    for (int y = -reach; y <= reach; ++y)
+      for (int z = -reach; z <= reach; ++z) {
+        float r = s * length(vec3(x, y, z));
+        if (r >= simDomainMin.w) continue;
+        vec3 site = xb + s * vec3(x, y, z);
+        bool fluid = all(greaterThan(site, simDomainMin.xyz)) && all(lessThan(site, simDomainMax.xyz));
+        for (uint c = 0u; fluid && c < uint(DFSPH_COLLIDERS); ++c) fluid = !sphInsideCollider(c, poses[c], site);
+        sum += fluid ? dfsphSpikyW(r) : 0.0;
+      }
+  return sum;
+}
+#endif
 
 void main() {
   uint b = sphfxGlobalIndex();
@@ -53,8 +84,13 @@ void main() {
     }
   SPH_END_FOR_EACH_CELL_RANGE
   bool nearFluid = squares > 1e-20;
+#if defined(HAS_COLLIDERS)
+  float rest = nearFluid ? psi * restShareAmongColliders(xb.xyz) : 0.0;
+  dfsph[at] = vec4(nearFluid ? 1.0 / squares : 0.0, share - rest, 0.0, rest);
+#else
   vec4 last = dfsph[at];
   dfsph[at] = vec4(nearFluid ? 1.0 / squares : 0.0, share - last.w,
                    nearFluid ? DFSPH_DENSITY_WARM_SHARE * last.z : 0.0, last.w);
+#endif
 #endif
 }

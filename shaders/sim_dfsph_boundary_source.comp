@@ -23,13 +23,19 @@ void main() {
   if (f.x > 0.0) {
     vec4 xb = sphFetchBoundaryPos(b);
     float psi = xb.w * dfsphWallScale(xb.xyz), rate = 0.0;
+#if defined(HAS_COLLIDERS)
+    vec3 vb = sphFetchBoundaryVel(b).xyz;  // the body's velocity (walls: 0)
+#else
+    const vec3 vb = vec3(0.0);
+#endif
     SPH_FOR_EACH_CELL_RANGE(xb.xyz, row, seam, first, last)
       SPH_FOR_EACH_FLUID(j, first, last) {
         vec3 d = sphFetchPos(j).xyz - xb.xyz;
-        rate += dot(sphFetchVel(j).xyz, psi * sphSpikyGrad(d, length(d)));
+        rate += dot(sphFetchVel(j).xyz - vb, psi * sphSpikyGrad(d, length(d)));
       }
     SPH_END_FOR_EACH_CELL_RANGE
-    // D S_b / Dt = sum_f psi_b v_f . grad W(x_f - x_b) (walls at rest); the diagonal is in f.x.
+    // D S_b / Dt = sum_f psi_b (v_f - v_b) . grad W(x_f - x_b) (the samples keep their place and
+    // velocity through the substep); the diagonal is in f.x.
     float dt = stateDt, residual = f.y + dt * rate;
     inc = max(f.z + DFSPH_OMEGA * residual * f.x / (dt * dt), 0.0) - f.z;
   }

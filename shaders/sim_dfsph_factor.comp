@@ -5,7 +5,7 @@
 // sph_dfsph.glsl), and the neighbour list every solver iteration of this substep reads. The walls'
 // hydrostatic push, -sum_b psi_b (g . (x_b - x_i) / rho_i) grad W_ib (push walls only), goes to accel, to which the
 // non-pressure pass adds the rest of the step's acceleration. The cache's pressure is the last step's
-// density stiffness, carried in vel.w.
+// density stiffness, carried in vel.w, times DFSPH_PRESSURE_SCALE (sph_dfsph.glsl).
 // Reduces the largest density (health).
 #define DFSPH_LIST_WRITE
 #include "sph_params.glsl"
@@ -91,7 +91,7 @@ void main() {
     bool surface = float(listed) + boundaryNeighbours < DFSPH_MIN_NEIGHBOURS;
     dfsph[i] = vec4(density > 1e-6 ? 1.0 / density : 0.0,
                     surface || divergence <= 1e-6 ? 0.0 : 1.0 / divergence, 0.0, 0.0);
-    densityPressure[i] = vec2(rho, sphFetchVel(i).w);
+    densityPressure[i] = vec2(rho, DFSPH_PRESSURE_SCALE * sphFetchVel(i).w);
 #if defined(DFSPH_BOUNDARY_CONSTRAINTS)
     accel[i] = vec4(0.0);  // the samples' own stiffness holds the fluid up (no hydrostatic push)
 #else

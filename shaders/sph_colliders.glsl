@@ -124,6 +124,21 @@ float sphFieldDistance(uint c, vec3 r, out vec3 normal) {
 }
 #endif
 
+// Whether world point x lies inside collider c placed at pose p (its surface counts as outside).
+bool sphInsideCollider(uint c, SphColliderPose p, vec3 x) {
+  vec3 r = sphColliderToRest(c, p, x);
+  uint shape = colliders[c].info.x;
+  if (shape == 0u)
+    return all(greaterThan(r, colliders[c].shapeA.xyz)) && all(lessThan(r, colliders[c].shapeB.xyz));
+  if (shape == 1u) return length(r - colliders[c].shapeA.xyz) < colliders[c].shapeA.w;
+#if defined(HAS_FIELD_COLLIDERS)
+  vec3 n;
+  return sphFieldDistance(c, r, n) < 0.0;
+#else
+  return false;
+#endif
+}
+
 // Pushes a particle at x out of collider c (placed for time t) to `margin` outside its surface, and
 // removes the velocity component into the collider relative to the body's velocity there.
 void sphProjectOutOfCollider(uint c, float t, float margin, inout vec3 x, inout vec3 v) {

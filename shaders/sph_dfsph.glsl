@@ -55,6 +55,13 @@ float dfsphSpikyW(float r) {
 // fluid's density is the spiky sum too, every DFSPH sum takes the particle mass times the scale and
 // every class of sample weighs the scale, so that a solve's predicted density change is the change of
 // the sum it corrects. The viscosity keeps the plain mass.
+// The stiffness totals are p / rho^2 per unit of the mass the sums take: with the spiky density's
+// scaled mass the pressure acceleration -m' sum (P_i + P_j) grad W is SPH's -m sum (p_i / rho_i^2 + ...)
+// for p / rho^2 = (m' / m) P, so the pressure written for the cache is DFSPH_PRESSURE_SCALE (m' / m) P.
+#ifndef DFSPH_PRESSURE_SCALE
+#define DFSPH_PRESSURE_SCALE 1.0
+#endif
+
 #if defined(DFSPH_WALL_SPIKY_FACE)
 float dfsphWallScale(vec3 xb) {
   vec3 beyond = step(simDomainMax.xyz, xb) + step(xb, simDomainMin.xyz);

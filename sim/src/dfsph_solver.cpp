@@ -121,6 +121,12 @@ ShaderDefines DFSPHSolver::wallDefines(const Scene& scene, ShaderDefines d) {
   d.set("DFSPH_BOUNDARY_CONSTRAINTS");
   d.set("DFSPH_MAX_NEIGHBORS", listSlots(scene));  // the apply and non-pressure passes read wall entries
   d.set("DFSPH_SPACING", float(scene.fluid.spacing));
+  if (scene.solver.dfsph.densityKernel == DfsphDensityKernel::Spiky)  // (it needs these walls)
+    d.set("DFSPH_PRESSURE_SCALE", float(spikyDensityMassScale(scene.solver.kernelSupport)));
+  if (!scene.colliders.empty()) {  // the samples' rest shares, every substep (sim_dfsph_boundary_factor.comp)
+    d.set("DFSPH_COLLIDERS", int(scene.colliders.size()));
+    d.set("DFSPH_REST_REACH", int(std::ceil(scene.solver.kernelSupport - 1e-9)));
+  }
   return d;
 }
 
@@ -155,8 +161,10 @@ DFSPHSolver::DFSPHSolver(const Scene& scene, const DispatchGate& gate, const Sha
   if (boundaryConstraints_) {
     const ShaderDefines factor = factorDefines(scene, defines_);
     boundaryFactor_ = ShaderProgram::compute(simShaderTable(), "sim_dfsph_boundary_factor.comp", factor);
-    boundaryRestShare_ = ShaderProgram::compute(simShaderTable(), "sim_dfsph_boundary_factor.comp",
-                                                ShaderDefines(factor).set("DFSPH_BOUNDARY_REST_SHARE"));
+    restSharePending_ = scene.colliders.empty();  // with colliders the factor pass computes them
+    if (restSharePending_)
+      boundaryRestShare_ = ShaderProgram::compute(simShaderTable(), "sim_dfsph_boundary_factor.comp",
+                                                  ShaderDefines(factor).set("DFSPH_BOUNDARY_REST_SHARE"));
     const ShaderDefines d = sampleSolveDefines(scene, defines_);
     boundarySource_ = ShaderProgram::compute(simShaderTable(), "sim_dfsph_boundary_source.comp", d);
     boundaryApply_ = ShaderProgram::compute(simShaderTable(), "sim_dfsph_boundary_source.comp",

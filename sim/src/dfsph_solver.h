@@ -91,8 +91,9 @@ class DFSPHSolver : public PressureSolver {
   static ShaderDefines solveDefines(const DfsphSettings& settings, ShaderDefines defines, bool divergence,
                                     uint32_t groups, uint32_t gateWord);
   /// `defines` plus, with constraint walls (solver.dfsph.walls), what every DFSPH pass needs for them:
-  /// DFSPH_BOUNDARY_CONSTRAINTS, the list slots (the wall entries fill them from the end) and the spacing
-  /// (the samples' resting share, sim_dfsph_boundary_factor.comp). Throws nothing.
+  /// DFSPH_BOUNDARY_CONSTRAINTS, the list slots (the wall entries fill them from the end), the spacing
+  /// and the colliders (the samples' resting share, sim_dfsph_boundary_factor.comp), and the spiky
+  /// density's pressure scale (which needs these walls; sph_dfsph.glsl). Throws nothing.
   static ShaderDefines wallDefines(const Scene& scene, ShaderDefines defines);
   /// `defines` (with wallDefines()) plus what sim_dfsph_boundary_source.comp needs, in both its variants
   /// (iteration; DFSPH_BOUNDARY_APPLY): the constant-density solve's and the factor pass's defines.
@@ -147,7 +148,8 @@ class DFSPHSolver : public PressureSolver {
   GpuBuffer particle_, increment_, warm_, partial_, control_, neighbors_, boundary_, count_;
   ShaderProgram factor_, nonPressure_;
   /// Constraint walls only: the samples' step start, iteration and apply passes, and the pass that
-  /// computes their resting shares once, in the solver's first substep (restSharePending_).
+  /// computes their resting shares once, in the solver's first substep (restSharePending_; scenes with
+  /// colliders have no such pass: their factor pass recomputes the shares every substep).
   ShaderProgram boundaryFactor_, boundarySource_, boundaryApply_, boundaryRestShare_;
   mutable bool restSharePending_ = true;
   Solve density_, divergence_;

@@ -103,7 +103,10 @@ FrameState measureFrameState(const ParticleFrame& f, const Scene& scene,
     potential += g * (f.position[i][1] - floor);
     st.maxSpeed = std::max(st.maxSpeed, std::sqrt(v2));
     const double gap = wallGap(scene, poses, fields, f.position[i]);
-    st.minWallGap = std::min(st.minWallGap, gap);
+    if (gap < st.minWallGap) {
+      st.minWallGap = gap;
+      st.minWallGapAt = f.position[i];
+    }
     if (haveDensity && gap >= h && f.position[i][1] < st.surfaceHeight - h) {
       bulk += f.density[i];
       ++bulkCount;
@@ -245,14 +248,19 @@ CriterionResult judgeEnergy(const std::vector<FrameState>& st, const Scene& scen
 CriterionResult judgeWalls(const std::vector<FrameState>& st, const Scene& scene) {
   CriterionResult r{Criterion::Walls};
   double gap = kInfinity;
+  std::array<float, 3> at{};
   for (const auto& f : st)
     if (f.minWallGap < gap) {
       gap = f.minWallGap;
+      at = f.minWallGapAt;
       r.worstFrame = f.frame;
     }
   const double s = scene.fluid.spacing;
   r.passed = gap >= kMinWallGapSpacings * s;
-  r.measured = std::isfinite(gap) ? fmt::format("closest centre {:.3f} s from a wall", gap / s) : "no walls";
+  r.measured = "no walls";
+  if (std::isfinite(gap))
+    r.measured = fmt::format("closest centre {:.3f} s from a wall, at ({:.4f}, {:.4f}, {:.4f}) m", gap / s,
+                             at[0], at[1], at[2]);
   r.bound = fmt::format(">= {} s (rest: 0.5 s)", kMinWallGapSpacings);
   return r;
 }

@@ -294,19 +294,26 @@ TEST(Scene, DfsphDepthStepIsTheGravityWaveCrossingOfTheDomain) {
   raw["gravity"] = Json::array({-8.0, -6.0, 0.0});  // |g| = 10
   raw["fluid"]["spacing"] = 0.02;
   raw["solver"]["method"] = "dfsph";
-  EXPECT_TRUE(std::isinf(parseScene(raw, "x.json").dfsphDepthStep())) << "the default factor 0: no cap";
+  const double depth = 0.8 * 0.5 + 0.6 * 2.0;  // the box's extent along g / |g|
+  EXPECT_NEAR(parseScene(raw, "x.json").dfsphDepthStep(), 0.4 * 0.02 / std::sqrt(10 * depth), 1e-15)
+      << "the default factor 0.4";
+  EXPECT_EQ(sceneIdentityJson(parseScene(raw, "x.json"))["solver"]["dfsph"]["depth_step_factor"], 0.4);
+  raw["solver"]["dfsph"]["depth_step_factor"] = 0.8;
+  EXPECT_NEAR(parseScene(raw, "x.json").dfsphDepthStep(), 0.8 * 0.02 / std::sqrt(10 * depth), 1e-15);
+  raw["solver"]["dfsph"]["depth_step_factor"] = 0;
+  EXPECT_TRUE(std::isinf(parseScene(raw, "x.json").dfsphDepthStep())) << "factor 0: no cap";
   EXPECT_FALSE(sceneIdentityJson(parseScene(raw, "x.json"))["solver"]["dfsph"].contains("depth_step_factor"));
   raw["solver"]["dfsph"]["depth_step_factor"] = 0.4;
-  const double depth = 0.8 * 0.5 + 0.6 * 2.0;  // the box's extent along g / |g|
-  EXPECT_NEAR(parseScene(raw, "x.json").dfsphDepthStep(), 0.4 * 0.02 / std::sqrt(10 * depth), 1e-15);
-  EXPECT_EQ(sceneIdentityJson(parseScene(raw, "x.json"))["solver"]["dfsph"]["depth_step_factor"], 0.4);
   Json fixed = raw;
   fixed["time"]["dt_mode"] = "fixed";
   EXPECT_NE(errorOf(fixed).find("/solver/dfsph/depth_step_factor: expected 0 with time.dt_mode \"fixed\""),
             std::string::npos)
       << errorOf(fixed);
-  fixed["solver"]["dfsph"].erase("depth_step_factor");
-  EXPECT_TRUE(std::isinf(parseScene(fixed, "x.json").dfsphDepthStep()));
+  fixed["solver"]["dfsph"].erase("depth_step_factor");  // the default: not read with fixed steps
+  const Scene fixedScene = parseScene(fixed, "x.json");
+  EXPECT_TRUE(std::isinf(fixedScene.dfsphDepthStep()));
+  EXPECT_FALSE(sceneToJson(fixedScene)["solver"]["dfsph"].contains("depth_step_factor"))
+      << "a resolved scene must parse again";
   Json weightless = raw;
   weightless["gravity"] = Json::array({0, 0, 0});
   EXPECT_TRUE(std::isinf(parseScene(weightless, "x.json").dfsphDepthStep()));

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 #include "gpu_types.h"
 #include "sim_shaders.h"
@@ -122,6 +123,49 @@ TEST(Colliders, BoxEmergeRunsWithoutHealthStops) {
   EXPECT_EQ(worstOutside, 0u);
   // The box's top ends at 0.48 m, above the 0.25 m fill: it lifts fluid above the initial surface.
   EXPECT_GT(maxTop, 0.3);
+}
+
+// A collider sample beyond a wall weighs nothing, since the wall's own samples stand for the solid there,
+// and one crossing the wall's plane weighs psi (d / s + 1/2) between half a spacing beyond and half a
+// spacing inside, d its distance inside (sim_boundary_update.comp). A box through the floor whose lattice
+// is half a cell off the floor's puts one layer on the plane: half its psi. Wall samples keep theirs.
+TEST(Colliders, SamplesBeyondAWallWeighNothing) {
+  auto ctx = test::makeContext();
+  const Scene scene =
+      loadScene(std::string(SPHFX_SOURCE_DIR) + "/scenes/hydrostatic.json",
+                {"fluid.spacing=0.02", "time.end_frame=2",
+                 R"(colliders=[{"shape":"box","min":[0.06,-0.05,0.06],"max":[0.14,0.35,0.14]}])",
+                 R"(fluid.blocks=[{"shape":"box","min":[0,0,0],"max":[0.06,0.3,0.2]}])"});
+  const double s = scene.fluid.spacing;
+  const sim::BoundarySamples rest = sim::sampleBoundaries(scene);
+  std::map<std::array<long, 3>, size_t> byPlace;  // the scene is static: samples stay at their rest place
+  const auto key = [](const auto& x) {
+    return std::array<long, 3>{std::lround(x[0] * 1e5), std::lround(x[1] * 1e5), std::lround(x[2] * 1e5)};
+  };
+  for (size_t i = 0; i < rest.size(); ++i) ASSERT_TRUE(byPlace.emplace(key(rest.rest[i]), i).second);
+  sim::Simulator sim(scene);
+  const auto placed = sim.boundary().positions().downloadVector<std::array<float, 4>>(sim.boundaryCount());
+  ASSERT_EQ(placed.size(), rest.size());
+  size_t beyond = 0, onPlane = 0, inside = 0;
+  for (const auto& p : placed) {
+    const auto it = byPlace.find(key(p));
+    ASSERT_NE(it, byPlace.end());
+    const double psi = rest.rest[it->second][3];
+    if (rest.body[it->second] == sim::BoundarySamples::kWallBody) {
+      EXPECT_FLOAT_EQ(p[3], float(psi));
+      continue;
+    }
+    const double weight = std::clamp(double(p[1]) / s + 0.5, 0.0, 1.0);  // the floor is the nearest wall
+    EXPECT_NEAR(p[3], psi * weight, 1e-6 * psi) << "collider sample at y = " << p[1];
+    beyond += p[1] < -1e-6;
+    onPlane += std::fabs(p[1]) <= 1e-6;
+    inside += p[1] > 1e-6;
+  }
+  std::printf("collider samples: %zu beyond the floor, %zu on its plane, %zu inside the domain\n", beyond,
+              onPlane, inside);
+  EXPECT_GT(beyond, 0u);
+  EXPECT_GT(onPlane, 0u);
+  EXPECT_GT(inside, 0u);
 }
 
 TEST(Colliders, SceneWithoutCollidersCompilesNoColliderCode) {

@@ -4,6 +4,7 @@
 /// water at rest stays at rest, a closed system does not gain energy, nothing enters a wall, nothing moves
 /// faster than the flow can make it. Everything is computed from the particle caches alone.
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -30,6 +31,7 @@ struct FrameState {
   /// Smallest distance from a particle centre to a wall face or collider surface (m); s/2 at rest on
   /// the initial lattice. Infinity without walls.
   double minWallGap = 0;
+  std::array<float, 3> minWallGapAt{};  ///< the centre of that particle (m)
 };
 
 /// `fields` holds the mesh and vdb colliders' distance fields by collider index (measureShot builds
