@@ -124,6 +124,30 @@ void appendField(const ColliderField& f, double s, int layers, double psiPerVolu
 }
 }  // namespace
 
+void warnIfWallLatticeMisfits(const Scene& scene) {
+  const double s = scene.fluid.spacing;
+  std::string axes;
+  for (int a = 0; a < 3; ++a) {
+    bool touches = false;  // a block of fluid against one of the axis' walls
+    for (const FluidBlock& b : scene.fluid.blocks) {
+      const double lo = b.shape == Shape::Box ? b.min[a] : b.center[a] - b.radius;
+      const double hi = b.shape == Shape::Box ? b.max[a] : b.center[a] + b.radius;
+      touches = touches || lo - scene.domain.min[a] < s || scene.domain.max[a] - hi < s;
+    }
+    if (scene.domain.isPeriodic(a) || !touches) continue;
+    const double extent = scene.domain.max[a] - scene.domain.min[a], n = extent / s;
+    if (std::fabs(n - std::round(n)) <= 0.01) continue;
+    axes += fmt::format("{}{} {} m is {:.2f} spacings (walls {:.5g} m apart)", axes.empty() ? "" : "; ",
+                        "xyz"[a], extent, n, extent / std::max(1.0, std::round(n)));
+  }
+  if (axes.empty()) return;
+  logWarning(
+      fmt::format("domain extent not a whole number of fluid.spacing {} m: {}. The fluid next to those "
+                  "walls starts off its rest density and splashes in the first frames; a spacing "
+                  "that divides the extents avoids it",
+                  s, axes));
+}
+
 BoundarySamples sampleBoundaries(const Scene& scene, const ColliderFields& fields) {
   BoundarySamples out;
   const double s = scene.fluid.spacing;

@@ -49,6 +49,11 @@ ColliderFields buildColliderFields(const Scene& scene, const std::string& shotDi
 /// (-layers * spacing, 0] from `fields`, which must hold theirs. Deterministic.
 BoundarySamples sampleBoundaries(const Scene& scene, const ColliderFields& fields = {});
 
+/// Logs a warning when a walled axis that a fluid block reaches is not a whole number of fluid spacings: the
+/// wall samples then sit on a lattice that fits the domain exactly (a step other than the spacing), and the
+/// fluid next to those walls starts off its rest density and splashes in the first frames.
+void warnIfWallLatticeMisfits(const Scene& scene);
+
 class BoundaryAkinci2012 {
  public:
   /// Uploads the samples and colliders, builds the programs; static scenes sort the samples once

@@ -47,6 +47,7 @@ Simulator::Simulator(const Scene& scene, const std::string& shotDir)
   defines_ = simShaderDefines(scene);
   gate_ = std::make_unique<DispatchGate>(capacity_);
   const GridSpec spec = GridSpec::forScene(scene);
+  warnIfWallLatticeMisfits(scene);
   grid_ = std::make_unique<NeighborGrid>(*gate_, spec, capacity_, dynamic_);
   boundary_ = std::make_unique<BoundaryAkinci2012>(
       wallSamplingScene(scene, boundaryLayers(scene) * scene.fluid.spacing),
