@@ -131,11 +131,7 @@ TEST(Colliders, BoxEmergeRunsWithoutHealthStops) {
 // is half a cell off the floor's puts one layer on the plane: half its psi. Wall samples keep theirs.
 TEST(Colliders, SamplesBeyondAWallWeighNothing) {
   auto ctx = test::makeContext();
-  const Scene scene =
-      loadScene(std::string(SPHFX_SOURCE_DIR) + "/scenes/hydrostatic.json",
-                {"fluid.spacing=0.02", "time.end_frame=2",
-                 R"(colliders=[{"shape":"box","min":[0.06,-0.05,0.06],"max":[0.14,0.35,0.14]}])",
-                 R"(fluid.blocks=[{"shape":"box","min":[0,0,0],"max":[0.06,0.3,0.2]}])"});
+  const Scene scene = test::pillarTank({"fluid.spacing=0.02", "time.end_frame=2"});
   const double s = scene.fluid.spacing;
   const sim::BoundarySamples rest = sim::sampleBoundaries(scene);
   std::map<std::array<long, 3>, size_t> byPlace;  // the scene is static: samples stay at their rest place

@@ -219,14 +219,7 @@ TEST(Physics, DfsphColumnComesToRestAtTheDefaults) {
 TEST(Physics, DfsphHoldsATankAtRestAroundACollider) {
   auto ctx = test::makeContext();
   const Scene scene =
-      loadScene(std::string(SPHFX_SOURCE_DIR) + "/scenes/hydrostatic.json",
-                {"solver.method=dfsph", "fluid.spacing=0.02",
-                 R"(colliders=[{"shape":"box","min":[0.06,-0.05,0.06],"max":[0.14,0.35,0.14]}])",
-                 R"(fluid.blocks=[{"shape":"box","min":[0,0,0],"max":[0.06,0.3,0.2]},)"
-                 R"({"shape":"box","min":[0.14,0,0],"max":[0.2,0.3,0.2]},)"
-                 R"({"shape":"box","min":[0.06,0,0],"max":[0.14,0.3,0.06]},)"
-                 R"({"shape":"box","min":[0.06,0,0.14],"max":[0.14,0.3,0.2]}])",
-                 "time.fps=20", "time.end_frame=41"});
+      test::pillarTank({"solver.method=dfsph", "fluid.spacing=0.02", "time.fps=20", "time.end_frame=41"});
   const double s = scene.fluid.spacing, gH = -scene.gravity[1] * 0.3;
   const Collider& pillar = scene.colliders.front();
   const auto pillarGap = [&](const std::array<float, 3>& p) {  // distance to the box from outside

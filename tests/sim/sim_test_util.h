@@ -53,6 +53,18 @@ inline Scene sceneFromJson(const std::string& text) {
 }
 
 /// Sum of the particles' velocities (momentum / particle mass).
+/// scenes/hydrostatic.json with a square pillar, a box collider from below the floor (y = -0.05 m) to above
+/// the 0.3 m surface, and the fluid in four blocks around it; `more` overrides are applied after these.
+inline Scene pillarTank(std::vector<std::string> more) {
+  std::vector<std::string> o{R"(colliders=[{"shape":"box","min":[0.06,-0.05,0.06],"max":[0.14,0.35,0.14]}])",
+                             R"(fluid.blocks=[{"shape":"box","min":[0,0,0],"max":[0.06,0.3,0.2]},)"
+                             R"({"shape":"box","min":[0.14,0,0],"max":[0.2,0.3,0.2]},)"
+                             R"({"shape":"box","min":[0.06,0,0],"max":[0.14,0.3,0.06]},)"
+                             R"({"shape":"box","min":[0.06,0,0.14],"max":[0.14,0.3,0.2]}])"};
+  o.insert(o.end(), more.begin(), more.end());
+  return loadScene(std::string(SPHFX_SOURCE_DIR) + "/scenes/hydrostatic.json", o);
+}
+
 inline std::array<double, 3> momentum(const ParticleFrame& f) {
   std::array<double, 3> m{};
   for (const auto& v : f.velocity)
