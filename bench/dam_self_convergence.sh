@@ -9,7 +9,7 @@
 #
 #   sh bench/dam_self_convergence.sh BUILD_DIR [OUT_DIR] [-- sphfx simulate options]
 #
-# DIVISIONS="40 20 10" runs a smaller ladder.
+# DIVISIONS="40 20 10" runs a smaller ladder, SOLVERS="dfsph" one solver.
 set -eu
 build=$1
 out=${2:-dam_self_convergence}
@@ -18,7 +18,7 @@ shift $(($# < 2 ? $# : 2))
 scene=studies/scenes/dam_break.json
 mkdir -p "$out"
 rm -f "$out/runs"
-for solver in wcsph dfsph; do
+for solver in ${SOLVERS:-wcsph dfsph}; do
   for divisions in ${DIVISIONS:-160 80 40 20 10}; do
     spacing=$(python3 -c "print(0.2 / $divisions)")
     shot=$out/$solver.$divisions

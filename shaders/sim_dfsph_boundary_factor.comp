@@ -8,13 +8,14 @@
 // Without colliders, T_b is the share of a fluid filling the domain on its lattice, and the samples keep
 // their sorted order between substeps (the warm start and T_b are per sorted index).
 // DFSPH_BOUNDARY_REST_SHARE: the variant that writes T_b alone, once per solver (DFSPHSolver::
-// computeDensity): T_b is a lattice sum of 216 kernels that never changes.
+// computeDensity): T_b is a lattice sum of (2 DFSPH_REST_REACH + 2)^3 kernels that never changes.
 // With colliders (HAS_COLLIDERS), the samples are placed and re-sorted every substep
 // (sim_boundary_update.comp), so nothing is kept per sorted index: T_b is recomputed here for every
 // sample near fluid, as the share of the sites x_b + n s (the lattice the sample's own layer continues)
 // that lie inside the domain and outside every collider at the substep's start, and the samples' solve
 // starts cold.
 #define DFSPH_LIST_READ
+#define DFSPH_LIST_WRITE
 #include "sph_params.glsl"
 #include "sph_neighbors.glsl"
 #include "sph_dfsph.glsl"
@@ -23,16 +24,37 @@
 #endif
 layout(local_size_x = SIM_WG) in;
 
-// The share of a fluid filling the domain on its lattice (sites min + (k + 1/2) s).
+// Whether a lattice site lies between the walls: a periodic axis has none (the fluid continues across
+// its seam).
+bool insideDomain(vec3 site) {
+  vec3 lo = simDomainMin.xyz, hi = simDomainMax.xyz;
+  bool x = site.x > lo.x && site.x < hi.x, y = site.y > lo.y && site.y < hi.y,
+       z = site.z > lo.z && site.z < hi.z;
+#if defined(SIM_PERIODIC_X)
+  x = true;
+#endif
+#if defined(SIM_PERIODIC_Y)
+  y = true;
+#endif
+#if defined(SIM_PERIODIC_Z)
+  z = true;
+#endif
+  return x && y && z;
+}
+
+// The share of a fluid filling the domain on its lattice (sites min + (k + 1/2) s): the sites between
+// the lattice's cell around x_b and DFSPH_REST_REACH (ceil of the kernel support) cells out on each
+// side, which hold every site within the support.
 float restShare(vec3 xb) {
   const float s = DFSPH_SPACING;
   vec3 base = floor((xb - simDomainMin.xyz) / s - 0.5);
   float sum = 0.0;
-  for (int x = -2; x <= 3; ++x)
-    for (int y = -2; y <= 3; ++y)
-      for (int z = -2; z <= 3; ++z) {
+  const int reach = DFSPH_REST_REACH;
+  for (int x = -reach; x <= reach + 1; ++x)
+    for (int y = -reach; y <= reach + 1; ++y)
+      for (int z = -reach; z <= reach + 1; ++z) {
         vec3 site = simDomainMin.xyz + (base + vec3(x, y, z) + 0.5) * s;
-        bool inside = all(greaterThan(site, simDomainMin.xyz)) && all(lessThan(site, simDomainMax.xyz));
+        bool inside = insideDomain(site);
         sum += inside ? dfsphSpikyW(length(xb - site)) : 0.0;
       }
   return sum;
@@ -53,7 +75,7 @@ float restShareAmongColliders(vec3 xb) {
         float r = s * length(vec3(x, y, z));
         if (r >= simDomainMin.w) continue;
         vec3 site = xb + s * vec3(x, y, z);
-        bool fluid = all(greaterThan(site, simDomainMin.xyz)) && all(lessThan(site, simDomainMax.xyz));
+        bool fluid = insideDomain(site);
         for (uint c = 0u; fluid && c < uint(DFSPH_COLLIDERS); ++c) fluid = !sphInsideCollider(c, poses[c], site);
         sum += fluid ? dfsphSpikyW(r) : 0.0;
       }
@@ -71,9 +93,10 @@ void main() {
   dfsph[at].w = psi * restShare(xb.xyz);
 #else
   float share = 0.0, squares = 0.0;
+  uint listed = 0u;
   SPH_FOR_EACH_CELL_RANGE(xb.xyz, row, seam, first, last)
     SPH_FOR_EACH_FLUID(j, first, last) {
-      vec3 d = sphFetchPos(j).xyz - xb.xyz;
+      vec3 d = sphDelta(sphFetchPos(j).xyz, xb.xyz);
       float r = length(d);
       share += psi * dfsphSpikyW(r);
       vec3 g = psi * sphSpikyGrad(d, r);
@@ -81,8 +104,14 @@ void main() {
       // push it together: with |e_fb|^2 alone, the exact diagonal, the floor's corners diverge in the
       // first substeps), at least |e_fb|^2.
       squares += max(dot(g, dfsphBoundary(j).xyz), dot(g, g));
+      // The sample's list, in the walk's order, as the particles' (sim_dfsph_factor.comp): every
+      // candidate goes to the next free slot, which only a neighbour advances.
+      dfNbr[dfsphSampleSlot(b, min(listed, uint(DFSPH_MAX_NEIGHBORS)))] = vec4(g, uintBitsToFloat(j));
+      listed += r < simDomainMin.w ? 1u : 0u;
     }
   SPH_END_FOR_EACH_CELL_RANGE
+  if (listed > uint(DFSPH_MAX_NEIGHBORS)) atomicOr(stateFailure, SIM_FAIL_NEIGHBORS);
+  dfCount[simCounts.x + b] = min(listed, uint(DFSPH_MAX_NEIGHBORS));
   bool nearFluid = squares > 1e-20;
 #if defined(HAS_COLLIDERS)
   float rest = nearFluid ? psi * restShareAmongColliders(xb.xyz) : 0.0;

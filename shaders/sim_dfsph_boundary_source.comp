@@ -2,9 +2,10 @@
 // default: the predicted share S_b + dt D S_b / Dt - T_b of each wall sample and its projected Jacobi
 //   increment (stiffness total >= 0), read by sim_dfsph_apply.comp at N + b. Runs beside
 //   sim_dfsph_source.comp (both read the same velocities), directly dispatched: a closed solve
-//   (dfOpen 0) skips it;
+//   (dfOpen 0) skips it. The rate sums over the sample's list (sph_dfsph.glsl);
 // DFSPH_BOUNDARY_APPLY: adds the increment to the sample's total, while the solve is open (the
 //   iteration that closes it applies nothing).
+#define DFSPH_LIST_READ
 #include "sph_params.glsl"
 #include "sph_neighbors.glsl"
 #include "sph_dfsph.glsl"
@@ -21,19 +22,17 @@ void main() {
   vec4 f = dfsph[at];
   float inc = 0.0;
   if (f.x > 0.0) {
-    vec4 xb = sphFetchBoundaryPos(b);
-    float psi = xb.w * dfsphWallScale(xb.xyz), rate = 0.0;
+    float rate = 0.0;
 #if defined(HAS_COLLIDERS)
     vec3 vb = sphFetchBoundaryVel(b).xyz;  // the body's velocity (walls: 0)
 #else
     const vec3 vb = vec3(0.0);
 #endif
-    SPH_FOR_EACH_CELL_RANGE(xb.xyz, row, seam, first, last)
-      SPH_FOR_EACH_FLUID(j, first, last) {
-        vec3 d = sphFetchPos(j).xyz - xb.xyz;
-        rate += dot(sphFetchVel(j).xyz - vb, psi * sphSpikyGrad(d, length(d)));
-      }
-    SPH_END_FOR_EACH_CELL_RANGE
+    uint count = dfsphSampleCount(b);
+    for (uint k = 0u; k < count; ++k) {
+      vec4 e = dfsphSampleEntry(b, k);  // psi_b grad W(x_f - x_b), f
+      rate += dot(sphFetchVel(floatBitsToUint(e.w)).xyz - vb, e.xyz);
+    }
     // D S_b / Dt = sum_f psi_b (v_f - v_b) . grad W(x_f - x_b) (the samples keep their place and
     // velocity through the substep); the diagonal is in f.x.
     float dt = stateDt, residual = f.y + dt * rate;

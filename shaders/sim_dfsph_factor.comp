@@ -38,7 +38,7 @@ void main() {
     // per-lane branch on whether a candidate is a neighbour (unpredictable) costs more than it skips.
     SPH_FOR_EACH_CELL_RANGE(xi, row, seam, first, last)
       SPH_FOR_EACH_FLUID(j, first, last) {
-        vec3 d = xi - sphFetchPos(j).xyz;
+        vec3 d = sphDelta(xi, sphFetchPos(j).xyz);
         float r2 = dot(d, d);
 #if defined(DFSPH_SPIKY_DENSITY)
         fluid += dfsphSpikyW(sqrt(r2));
@@ -53,7 +53,7 @@ void main() {
       }
       SPH_FOR_EACH_BOUNDARY(j, first, last) {
         vec4 b = sphFetchBoundaryPos(j);
-        vec3 d = xi - b.xyz;
+        vec3 d = sphDelta(xi, b.xyz);
         float r2 = dot(d, d);
         float psi = b.w * dfsphWallScale(b.xyz), r = sqrt(r2), q = max(simDomainMin.w - r, 0.0);
         wall += psi * (-simKernel.y / 3.0) * q * q * q;  // psi dfsphSpikyW(r)

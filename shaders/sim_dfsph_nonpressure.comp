@@ -45,7 +45,7 @@ void viscosityAndWarmPressure(uint i, vec3 xi, vec3 vi, float rhoi, float pi, ou
     vec4 vj = sphFetchVel(j);
     push -= (pi + DFSPH_DENSITY_WARM_SHARE * vj.w) * e.xyz;
 #if defined(VISCOSITY_ARTIFICIAL) || defined(VISCOSITY_LAPLACIAN)
-    vec3 d = xi - sphFetchPos(j).xyz;
+    vec3 d = sphDelta(xi, sphFetchPos(j).xyz);
 #if defined(VISCOSITY_ARTIFICIAL)
     fluid -= artificialViscosity(vi - vj.xyz, d, dot(d, d), rhoi + sphFetchDensity(j).x) * e.xyz;
 #else
@@ -60,7 +60,7 @@ void viscosityAndWarmPressure(uint i, vec3 xi, vec3 vi, float rhoi, float pi, ou
   SPH_FOR_EACH_CELL_RANGE(xi, row, seam, first, last)
     SPH_FOR_EACH_BOUNDARY(j, first, last) {
       vec4 b = sphFetchBoundaryPos(j);
-      vec3 d = xi - b.xyz;
+      vec3 d = sphDelta(xi, b.xyz);
       float r2 = dot(d, d);
       if (r2 >= simKernel.w) continue;
       float r = sqrt(r2);

@@ -1,7 +1,4 @@
 // DFSPH (Bender & Koschier 2015/2017) data shared by the sim_dfsph_*.comp passes. Needs sph_params.glsl.
-#if defined(SIM_PERIODIC_X) || defined(SIM_PERIODIC_Y) || defined(SIM_PERIODIC_Z)
-#error "the DFSPH passes have no periodic boundaries (scenes with both are rejected)"
-#endif
 //
 // Stiffness values are stored dt-free as kappa_i / rho_i: the density solver's total is p / rho^2 (the
 // pressure acceleration is -m sum (P_i + P_j) grad W), the divergence solver's total changes velocities
@@ -125,8 +122,26 @@ vec4 dfsphBoundaryEntry(uint i, uint k) {
 }
 #endif
 vec4 dfsphBoundary(uint i) { return texelFetch(dfBoundaryTex, int(i)); }
-#elif defined(DFSPH_LIST_WRITE)
+#endif
+#if defined(DFSPH_LIST_WRITE)
 layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_NEIGHBORS) writeonly buffer DfsphNeighbors { vec4 dfNbr[]; };
 layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_COUNT) writeonly buffer DfsphCount { uint dfCount[]; };
 layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_BOUNDARY) writeonly buffer DfsphBoundary { vec4 dfBoundary[]; };
+#endif
+
+#if defined(DFSPH_BOUNDARY_CONSTRAINTS) && (defined(DFSPH_LIST_READ) || defined(DFSPH_LIST_WRITE))
+// Each wall sample's list of fluid neighbours (constraint walls), the transpose of the particles' wall
+// entries, built by sim_dfsph_boundary_factor.comp and read by every iteration of the constant-density
+// solve (sim_dfsph_boundary_source.comp), so that an iteration visits a sample's listed neighbours
+// instead of walking its 27 cells. After the particles' lists: slot k of sorted sample b is entry
+// dfsphSampleSlot(b, k) (adjacent samples read adjacent entries), DFSPH_MAX_NEIGHBORS slots and one spare
+// as the particles'; its count is dfCount[N + b].
+//   xyz = psi_b grad W(x_f - x_b) (the particle's wall entry for b), w = f (uint bits)
+uint dfsphSampleSlot(uint b, uint k) {
+  return simCounts.x * uint(DFSPH_MAX_NEIGHBORS + 1) + k * simCounts.y + b;
+}
+#if defined(DFSPH_LIST_READ)
+vec4 dfsphSampleEntry(uint b, uint k) { return texelFetch(dfNbrTex, int(dfsphSampleSlot(b, k))); }
+uint dfsphSampleCount(uint b) { return texelFetch(dfCountTex, int(simCounts.x + b)).x; }
+#endif
 #endif

@@ -107,6 +107,10 @@ double DFSPHSolver::spikyDensityMassScale(double support) {
   return s.poly6[0] / s.spiky[0];
 }
 
+uint32_t DFSPHSolver::listedSamples(const Scene& scene, uint32_t boundarySamples) {
+  return scene.solver.dfsph.walls == DfsphWalls::Constraints ? boundarySamples : 0;
+}
+
 int DFSPHSolver::listSlots(const Scene& scene) {
   // Twice the mean neighbour count of a disordered fluid at the scene's densest start (4/3 pi q^3 per
   // spacing^3; the cubic lattice has fewer: 26 at q = 2, which was too tight for a 10 m/s impact at
@@ -123,21 +127,23 @@ ShaderDefines DFSPHSolver::wallDefines(const Scene& scene, ShaderDefines d) {
   d.set("DFSPH_SPACING", float(scene.fluid.spacing));
   if (scene.solver.dfsph.densityKernel == DfsphDensityKernel::Spiky)  // (it needs these walls)
     d.set("DFSPH_PRESSURE_SCALE", float(spikyDensityMassScale(scene.solver.kernelSupport)));
-  if (!scene.colliders.empty()) {  // the samples' rest shares, every substep (sim_dfsph_boundary_factor.comp)
+  // The samples' rest shares (sim_dfsph_boundary_factor.comp): lattice sites up to this many spacings out.
+  d.set("DFSPH_REST_REACH", int(std::ceil(scene.solver.kernelSupport - 1e-9)));
+  if (!scene.colliders.empty())  // recomputed every substep
     d.set("DFSPH_COLLIDERS", int(scene.colliders.size()));
-    d.set("DFSPH_REST_REACH", int(std::ceil(scene.solver.kernelSupport - 1e-9)));
-  }
   return d;
 }
 
 ShaderDefines DFSPHSolver::sampleSolveDefines(const Scene& scene, ShaderDefines d) {
-  return factorDefines(scene, solveDefines(scene.solver.dfsph, std::move(d), false, 1, 0));
+  return factorDefines(
+      scene, solveDefines(scene.solver.dfsph, scene.solver.kernelSupport, std::move(d), false, 1, 0));
 }
 
 DFSPHSolver::DFSPHSolver(const Scene& scene, const DispatchGate& gate, const ShaderDefines& plainDefines,
                          uint32_t particles, uint32_t boundaryEntry, uint32_t boundarySamples)
     : gate_(&gate),
       settings_(scene.solver.dfsph),
+      kernelSupport_(scene.solver.kernelSupport),
       defines_(wallDefines(scene, plainDefines)),
       particles_(particles),
       groups_(std::max<uint32_t>(1, (particles + kSimWorkGroup - 1) / kSimWorkGroup)),
@@ -151,9 +157,11 @@ DFSPHSolver::DFSPHSolver(const Scene& scene, const DispatchGate& gate, const Sha
       partial_(size_t(groups_) * 4),
       control_(sizeof(DfsphControl)),
       // One spare slot: sim_dfsph_factor.comp writes every candidate to the slot after the last neighbour.
-      neighbors_(size_t(std::max<uint32_t>(particles, 1)) * 16 * size_t(listSlots_ + 1)),
+      // Constraint walls: the samples' lists and counts follow the particles' (sph_dfsph.glsl).
+      neighbors_(size_t(std::max<uint32_t>(particles + listedSamples(scene, boundarySamples), 1)) * 16 *
+                 size_t(listSlots_ + 1)),
       boundary_(size_t(std::max<uint32_t>(particles, 1)) * 16),
-      count_(size_t(std::max<uint32_t>(particles, 1)) * 4),
+      count_(size_t(std::max<uint32_t>(particles + listedSamples(scene, boundarySamples), 1)) * 4),
       factor_(
           ShaderProgram::compute(simShaderTable(), "sim_dfsph_factor.comp", factorDefines(scene, defines_))),
       nonPressure_(ShaderProgram::compute(simShaderTable(), "sim_dfsph_nonpressure.comp",
@@ -181,8 +189,8 @@ DFSPHSolver::DFSPHSolver(const Scene& scene, const DispatchGate& gate, const Sha
   particle_.fill(0);
 }
 
-ShaderDefines DFSPHSolver::solveDefines(const DfsphSettings& settings, ShaderDefines d, bool divergence,
-                                        uint32_t groups, uint32_t gateWord) {
+ShaderDefines DFSPHSolver::solveDefines(const DfsphSettings& settings, double kernelSupport, ShaderDefines d,
+                                        bool divergence, uint32_t groups, uint32_t gateWord) {
   d = withDensitySolveShares(settings, std::move(d));
   if (divergence) d.set("DFSPH_DIVERGENCE");
   d.set("DFSPH_SOLVE", divergence ? 1 : 0);
@@ -191,10 +199,48 @@ ShaderDefines DFSPHSolver::solveDefines(const DfsphSettings& settings, ShaderDef
   d.set("DFSPH_MAX_ITER", settings.maxIterations);
   d.set("DFSPH_GROUPS", groups);
   d.set("DFSPH_GATE_WORD", gateWord);
-  d.set("DFSPH_OMEGA", float(settings.jacobiOmega));
+  d.set("DFSPH_OMEGA", float(jacobiRelaxation(settings, kernelSupport)));
   if (settings.jacobiMomentum > 0) d.set("DFSPH_MOMENTUM");
   d.set("DFSPH_WARM_SHARE", float(divergence ? settings.divergenceWarmShare : settings.densityWarmShare));
   return d;
+}
+
+double DFSPHSolver::jacobiSpectralBound(double support) {
+  // Neighbour offsets d_j (in spacings) with their spiky gradients; constant factors cancel in the ratio.
+  std::vector<std::array<double, 6>> nbr;  // d, grad W
+  const int n = int(std::ceil(support));
+  double diagonal = 0;
+  for (int x = -n; x <= n; ++x)
+    for (int y = -n; y <= n; ++y)
+      for (int z = -n; z <= n; ++z) {
+        const double r = std::sqrt(double(x * x + y * y + z * z));
+        if (r <= 0 || r >= support) continue;
+        const double g = (support - r) * (support - r) / r;
+        nbr.push_back({double(x), double(y), double(z), g * x, g * y, g * z});
+        diagonal += g * g * r * r;
+      }
+  // The symbol is even and symmetric under the lattice's axis permutations: k in 0 <= kx <= ky <= kz <= pi.
+  constexpr int kSteps = 12;
+  double bound = 0;
+  for (int i = 0; i <= kSteps; ++i)
+    for (int j = i; j <= kSteps; ++j)
+      for (int l = j; l <= kSteps; ++l) {
+        const double kx = std::numbers::pi * i / kSteps, ky = std::numbers::pi * j / kSteps,
+                     kz = std::numbers::pi * l / kSteps;
+        double s[3] = {0, 0, 0};
+        for (const auto& e : nbr) {
+          const double w = std::sin(kx * e[0] + ky * e[1] + kz * e[2]);
+          s[0] += w * e[3], s[1] += w * e[4], s[2] += w * e[5];
+        }
+        bound = std::max(bound, (s[0] * s[0] + s[1] * s[1] + s[2] * s[2]) / diagonal);
+      }
+  return bound;
+}
+
+double DFSPHSolver::jacobiRelaxation(const DfsphSettings& settings, double kernelSupport) {
+  constexpr double kDefaultSupport = 2;  // where solver.dfsph.jacobi_omega's default was chosen
+  const double scale = jacobiSpectralBound(kDefaultSupport) / jacobiSpectralBound(kernelSupport);
+  return settings.jacobiOmega * std::min(1.0, scale);
 }
 
 ShaderDefines DFSPHSolver::nonPressureDefines(const DfsphSettings& settings, ShaderDefines defines) {
@@ -203,7 +249,7 @@ ShaderDefines DFSPHSolver::nonPressureDefines(const DfsphSettings& settings, Sha
 
 DFSPHSolver::Solve DFSPHSolver::makeSolve(const ShaderDefines& defines, bool divergence,
                                           uint32_t gateWord) const {
-  const ShaderDefines d = solveDefines(settings_, defines, divergence, groups_, gateWord);
+  const ShaderDefines d = solveDefines(settings_, kernelSupport_, defines, divergence, groups_, gateWord);
   return {ShaderProgram::compute(simShaderTable(), "sim_dfsph_begin.comp", d),
           ShaderProgram::compute(simShaderTable(), "sim_dfsph_source.comp", d),
           ShaderProgram::compute(simShaderTable(), "sim_dfsph_reduce.comp", d),
@@ -214,12 +260,13 @@ DFSPHSolver::Solve DFSPHSolver::makeSolve(const ShaderDefines& defines, bool div
 // texels; say so by name before the first substep rather than from a bind inside it.
 void DFSPHSolver::checkListFitsTextureView() const {
   const size_t limit = maxTextureBufferTexels(), texels = neighbors_.size() / 16;
+  const size_t samples = texels / size_t(listSlots_ + 1) - std::min<size_t>(particles_, texels);
   if (texels > limit)
     throw GLError(
-        fmt::format("the DFSPH neighbour lists need {} texels ({} particles x {} slots), more than "
-                    "this GL's GL_MAX_TEXTURE_BUFFER_SIZE ({}): use fewer particles, or "
-                    "fluid.packing 1 (fewer slots)",
-                    texels, particles_, listSlots_ + 1, limit));
+        fmt::format("the DFSPH neighbour lists need {} texels ({} particles and {} wall samples x {} "
+                    "slots), more than this GL's GL_MAX_TEXTURE_BUFFER_SIZE ({}): use fewer particles, "
+                    "or fluid.packing 1 (fewer slots)",
+                    texels, particles_, samples, listSlots_ + 1, limit));
 }
 
 void DFSPHSolver::bind() const {

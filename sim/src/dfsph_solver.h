@@ -79,6 +79,9 @@ class DFSPHSolver : public PressureSolver {
   /// Neighbour-list slots per particle for `scene` (DFSPH_MAX_NEIGHBORS): twice the neighbours of its
   /// densest starting lattice; a particle with more fluid neighbours stops the run (kFailNeighbors).
   static int listSlots(const Scene& scene);
+  /// How many of the `boundarySamples` wall samples carry a neighbour list of their own: all with
+  /// constraint walls (solver.dfsph.walls), none with push walls. Throws nothing.
+  static uint32_t listedSamples(const Scene& scene, uint32_t boundarySamples);
 
   /// `defines` plus what sim_dfsph_factor.comp needs for `scene`: the list slots, the neighbour count
   /// below which a particle gets no divergence correction (a divergence factor of 0), the walls'
@@ -86,10 +89,20 @@ class DFSPHSolver : public PressureSolver {
   /// (spikyDensityMassScale(), which the weights then take).
   static ShaderDefines factorDefines(const Scene& scene, ShaderDefines defines);
   /// `defines` plus what the four programs of one solve need (sim_dfsph_begin/source/reduce/apply):
-  /// the tolerances, iteration limits, relaxation, momentum and warm share of `settings`, the work
-  /// groups of one pass and the dispatch gate's word for the solve.
-  static ShaderDefines solveDefines(const DfsphSettings& settings, ShaderDefines defines, bool divergence,
-                                    uint32_t groups, uint32_t gateWord);
+  /// the tolerances, iteration limits, relaxation (jacobiRelaxation()), momentum and warm share of
+  /// `settings`, the work groups of one pass and the dispatch gate's word for the solve.
+  static ShaderDefines solveDefines(const DfsphSettings& settings, double kernelSupport,
+                                    ShaderDefines defines, bool divergence, uint32_t groups,
+                                    uint32_t gateWord);
+  /// The largest eigenvalue of the solves' Jacobi-scaled matrix on the resting lattice at kernel support
+  /// `support` (spacings): max over wavevectors k of |sum_j sin(k . d_j) grad W(d_j)|^2 / sum_j |grad
+  /// W(d_j)|^2 (the matrix's Fourier symbol over its diagonal, spiky gradient), 2.81 at 2 and 6.72 at 3.
+  /// Throws nothing.
+  static double jacobiSpectralBound(double support);
+  /// The relaxation the solves use: solver.dfsph.jacobi_omega at the default support 2, scaled by
+  /// jacobiSpectralBound(2) / jacobiSpectralBound(support) where that is below 1, so that every support
+  /// keeps the default's margin to the heavy-ball iteration's divergence (omega lambda < 2 (1 + momentum)).
+  static double jacobiRelaxation(const DfsphSettings& settings, double kernelSupport);
   /// `defines` plus, with constraint walls (solver.dfsph.walls), what every DFSPH pass needs for them:
   /// DFSPH_BOUNDARY_CONSTRAINTS, the list slots (the wall entries fill them from the end), the spacing
   /// and the colliders (the samples' resting share, sim_dfsph_boundary_factor.comp), and the spiky
@@ -139,6 +152,7 @@ class DFSPHSolver : public PressureSolver {
   /// solver.dfsph: tolerances, iteration limits, relaxation, momentum and warm-start shares (each
   /// compiled into the programs as a #define).
   DfsphSettings settings_;
+  double kernelSupport_;
   ShaderDefines defines_;  ///< the scene's defines with wallDefines()
   uint32_t particles_, groups_;
   int listSlots_;

@@ -150,13 +150,19 @@ std::string primaryMetric(Validation v) {
 }
 
 std::map<std::string, double> measureShot(Validation validation, const std::string& sceneFile,
-                                          const std::string& shotDir) {
+                                          const std::string& shotDir,
+                                          std::vector<std::pair<double, double>>* front) {
   const Scene scene = loadScene(sceneFile);
   const std::vector<ParticleFrame> frames = readAllFrames(shotDir);
   std::map<std::string, double> metrics;
   switch (validation) {
     case Validation::DamBreak:
       metrics = measureDamBreak(scene, frames);
+      if (front) {
+        front->clear();
+        const double wall = scene.fluid.blocks.front().min[0];
+        for (const ParticleFrame& f : frames) front->emplace_back(f.time, surgeFront(f, wall));
+      }
       break;
     case Validation::Hydrostatic:
       metrics = measureHydrostatic(scene, frames);
@@ -174,6 +180,42 @@ std::map<std::string, double> measureShot(Validation validation, const std::stri
   const double e1 = kineticEnergy(frames.back(), m) + potentialEnergy(frames.back(), m, g);
   metrics["energy_change"] = e0 != 0 ? (e1 - e0) / std::fabs(e0) : 0;
   return metrics;
+}
+
+void addFrontSelfConvergence(const StudyCase& c, const Scene& scene, std::vector<RunResult*> runs) {
+  if (c.validation != Validation::DamBreak || c.convergenceAxis != "fluid.spacing") return;
+  const FluidBlock& column = scene.fluid.blocks.front();
+  const double a = column.max[0] - column.min[0];
+  const double reach = 0.9 * (scene.domain.max[0] - column.min[0]);
+  // Groups of runs that differ only in the spacing, each with its finest completed run.
+  std::map<std::map<std::string, std::string>, std::vector<RunResult*>> groups;
+  for (RunResult* r : runs) {
+    if (r->outcome.status != RunStatus::Completed || r->front.empty()) continue;
+    auto key = r->parameters;
+    key.erase(c.convergenceAxis);
+    groups[key].push_back(r);
+  }
+  for (auto& [key, group] : groups) {
+    const auto spacing = [&](const RunResult* r) { return std::stod(r->parameters.at(c.convergenceAxis)); };
+    const RunResult* reference = *std::min_element(group.begin(), group.end(),
+                                                   [&](auto* x, auto* y) { return spacing(x) < spacing(y); });
+    for (RunResult* r : group) {
+      if (r == reference) continue;
+      double sum = 0;
+      int n = 0;
+      for (const auto& [t, xRef] : reference->front) {
+        if (t < 0.05) continue;
+        if (xRef >= reach) break;
+        const auto it = std::find_if(r->front.begin(), r->front.end(),
+                                     [&](const auto& s) { return std::fabs(s.first - t) < 1e-6; });
+        if (it == r->front.end()) continue;
+        const double e = (it->second - xRef) / (xRef - a);
+        sum += e * e;
+        ++n;
+      }
+      if (n > 0) r->metrics["front_self"] = std::sqrt(sum / n);
+    }
+  }
 }
 
 }  // namespace sphfx::study

@@ -231,17 +231,22 @@ CriterionResult judgeRest(const std::vector<FrameState>& st, const Scene& scene)
 
 CriterionResult judgeEnergy(const std::vector<FrameState>& st, const Scene& scene) {
   CriterionResult r{Criterion::Energy};
+  // The scale: g H, or without vertical gravity (a periodic vortex, say) the start's kinetic energy.
   const double gH = std::fabs(scene.gravity[1]) * initialFluidHeight(scene);
+  const bool byHeight = gH > 0;
+  const double scale = byHeight ? gH : std::fabs(st.front().energyPerMass);
+  const char* unit = byHeight ? "g H" : "the starting E/m";
   double growth = -kInfinity;
   for (const auto& f : st)
     if (f.energyPerMass - st.front().energyPerMass > growth) {
       growth = f.energyPerMass - st.front().energyPerMass;
       r.worstFrame = f.frame;
     }
-  r.passed = growth <= kEnergyGrowthFraction * gH;
-  r.measured = fmt::format("largest gain {:+.3f} % of g H (E/m {:.4g} -> {:.4g} J/kg at the end)",
-                           100 * growth / gH, st.front().energyPerMass, st.back().energyPerMass);
-  r.bound = fmt::format("<= {:.0f} % of g H", 100 * kEnergyGrowthFraction);
+  r.passed = growth <= kEnergyGrowthFraction * scale;
+  r.measured = fmt::format("largest gain {:+.3f} % of {} (E/m {:.4g} -> {:.4g} J/kg at the end)",
+                           scale > 0 ? 100 * growth / scale : 0.0, unit, st.front().energyPerMass,
+                           st.back().energyPerMass);
+  r.bound = fmt::format("<= {:.0f} % of {}", 100 * kEnergyGrowthFraction, unit);
   return r;
 }
 

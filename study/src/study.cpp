@@ -90,6 +90,7 @@ std::vector<RunResult> runStudy(const StudySpec& spec, const std::string& outDir
   Progress progress("study " + spec.name, int64_t(total));
   fs::create_directories(outDir);
   for (const StudyCase& c : spec.cases) {
+    const size_t caseStart = results.size();
     size_t index = 0;
     for (const auto& point : gridPoints(c)) {
       RunResult r;
@@ -104,7 +105,7 @@ std::vector<RunResult> runStudy(const StudySpec& spec, const std::string& outDir
       r.outcome = runSimulation(options.sphfxExe, sceneFile, shotDir, spec.timeoutSeconds, options.gl);
       if (r.outcome.status == RunStatus::Completed) {
         try {
-          r.metrics = measureShot(c.validation, sceneFile, shotDir);
+          r.metrics = measureShot(c.validation, sceneFile, shotDir, &r.front);
         } catch (const Error& e) {
           r.outcome.status = RunStatus::Failed;
           r.outcome.message = std::string("cannot measure: ") + e.what();
@@ -116,6 +117,10 @@ std::vector<RunResult> runStudy(const StudySpec& spec, const std::string& outDir
                       fmt::format("{} {} {:.1f}s", c.name, toString(results.back().outcome.status),
                                   results.back().outcome.wallSeconds));
     }
+    std::vector<RunResult*> caseResults;
+    for (size_t k = caseStart; k < results.size(); ++k) caseResults.push_back(&results[k]);
+    if (!gridPoints(c).empty())
+      addFrontSelfConvergence(c, resolveRunScene(spec, c, gridPoints(c).front()), caseResults);
   }
   progress.finish();
   writeResultsCsv((fs::path(outDir) / "results.csv").string(), results);

@@ -228,7 +228,8 @@ void addSimPrograms(const Scene& scene, const std::string& variant, std::vector<
     add("sim_dfsph_boundary_source.comp", ShaderDefines(samples).set("DFSPH_BOUNDARY_APPLY"));
   }
   for (const bool divergence : {false, true}) {
-    const ShaderDefines s = sim::DFSPHSolver::solveDefines(scene.solver.dfsph, w, divergence, 1u, 0u);
+    const ShaderDefines s =
+        sim::DFSPHSolver::solveDefines(scene.solver.dfsph, scene.solver.kernelSupport, w, divergence, 1u, 0u);
     for (const char* file :
          {"sim_dfsph_begin.comp", "sim_dfsph_source.comp", "sim_dfsph_reduce.comp", "sim_dfsph_apply.comp"})
       add(file, s);

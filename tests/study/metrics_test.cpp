@@ -6,6 +6,7 @@
 #include "metrics.h"
 #include "sphfx/core/error.h"
 #include "sphfx/core/scene.h"
+#include "sphfx/study/study.h"
 
 using namespace sphfx;
 using namespace sphfx::study;
@@ -113,4 +114,42 @@ TEST(Metrics, TaylorGreenModeAmplitudeIgnoresOtherModes) {
     f.velocity[i] = {float(v[0] + 0.01 + wave), float(v[1]), float(v[2] - 0.004)};
   }
   EXPECT_NEAR(taylorGreenModeAmplitude(f, d.min[0], d.min[2], 0.2, 0.1), U, 1e-4 * U);  // float state
+}
+
+// The dam break's self-convergence metric on synthetic fronts: a reference x_ref = a + t (a = 0.2 m, far
+// wall at 1 m) and a run x = a + 1.1 t are 10 % apart in surge distance at every frame, so "front_self"
+// is 0.1; frames before 0.05 s and after the reference front passes 0.9 m are left out (a run that is off
+// only there scores 0). Each solver's runs are measured against that solver's finest run, which itself
+// gets no value.
+TEST(Metrics, FrontSelfConvergenceAgainstTheFinestRunOfEachSeries) {
+  const Scene scene = parseScene(schema::Json::parse(R"({
+    "domain": { "min": [0, 0, 0], "max": [1.0, 0.5, 0.06] },
+    "fluid": { "spacing": 0.01, "blocks": [ { "shape": "box", "min": [0, 0, 0], "max": [0.2, 0.4, 0.06] } ] }
+  })"),
+                                 "dam");
+  StudyCase c;
+  c.validation = Validation::DamBreak;
+  c.convergenceAxis = "fluid.spacing";
+  auto run = [](const std::string& solver, const std::string& spacing, auto front) {
+    RunResult r;
+    r.parameters = {{"solver.method", solver}, {"fluid.spacing", spacing}};
+    r.outcome.status = RunStatus::Completed;
+    for (int k = 0; k <= 100; ++k) {
+      const double t = k * 0.01;
+      r.front.emplace_back(t, front(t));
+    }
+    return r;
+  };
+  RunResult fine = run("wcsph", "0.005", [](double t) { return 0.2 + t; });
+  RunResult coarse = run("wcsph", "0.01", [](double t) { return 0.2 + 1.1 * t; });
+  RunResult offOnlyOutside =
+      run("wcsph", "0.02", [](double t) { return t < 0.045 || t > 0.75 ? 0.2 + 2 * t : 0.2 + t; });
+  RunResult otherFine = run("dfsph", "0.0075", [](double t) { return 0.2 + 0.5 * t; });
+  RunResult otherCoarse = run("dfsph", "0.015", [](double t) { return 0.2 + 0.45 * t; });
+  addFrontSelfConvergence(c, scene, {&fine, &coarse, &offOnlyOutside, &otherFine, &otherCoarse});
+  EXPECT_EQ(fine.metrics.count("front_self"), 0u);
+  EXPECT_EQ(otherFine.metrics.count("front_self"), 0u);
+  EXPECT_NEAR(coarse.metrics.at("front_self"), 0.1, 1e-9);
+  EXPECT_NEAR(offOnlyOutside.metrics.at("front_self"), 0.0, 1e-12);
+  EXPECT_NEAR(otherCoarse.metrics.at("front_self"), 0.1, 1e-9);
 }

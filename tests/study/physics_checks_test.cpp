@@ -88,6 +88,23 @@ TEST(PhysicsChecks, EachViolationIsCaught) {
   EXPECT_FALSE(judge(Criterion::Rest, states(scene, {rest, stirred}), scene).passed);
 }
 
+// Without vertical gravity (a periodic vortex) g H is 0: the energy bound is 1 % of the starting E/m.
+TEST(PhysicsChecks, WithoutGravityEnergyGainIsMeasuredAgainstTheStartingEnergy) {
+  Scene scene = tankScene();
+  scene.gravity = {0, 0, 0};
+  ParticleFrame moving = restingFrame(scene, 1);
+  for (auto& v : moving.velocity) v = {0.1f, 0, 0};  // E/m = 0.005 J/kg
+  ParticleFrame slower = restingFrame(scene, 2), faster = restingFrame(scene, 2);
+  for (auto& v : slower.velocity) v = {0.09f, 0, 0};
+  for (auto& v : faster.velocity) v = {0.1015f, 0, 0};  // E/m 3 % above the start
+  const CriterionResult kept = judge(Criterion::Energy, states(scene, {moving, slower}), scene);
+  EXPECT_TRUE(kept.passed) << kept.measured;
+  EXPECT_NE(kept.measured.find("+0.000 % of the starting E/m"), std::string::npos) << kept.measured;
+  const CriterionResult gained = judge(Criterion::Energy, states(scene, {moving, faster}), scene);
+  EXPECT_FALSE(gained.passed) << gained.measured;
+  EXPECT_NE(gained.measured.find("+3.0"), std::string::npos) << gained.measured;
+}
+
 TEST(PhysicsChecks, CriterionNames) {
   EXPECT_EQ(parseCriterion("rest"), Criterion::Rest);
   EXPECT_EQ(parseCriterion("walls"), Criterion::Walls);

@@ -101,12 +101,26 @@ struct RunResult {
   RunOutcome outcome;
   std::map<std::string, double> metrics;  ///< name -> value
   std::string primaryMetric;              ///< the metric plotted against time
+  /// Dam break: (t, the surge front's distance from the column's back wall) per frame, for
+  /// addFrontSelfConvergence(); not written to results.csv.
+  std::vector<std::pair<double, double>> front;
 };
 
-/// Metrics of a finished shot for a validation type (reads the caches and the resolved scene).
+/// Metrics of a finished shot for a validation type (reads the caches and the resolved scene); for the
+/// dam break, `front` (if given) receives the front per frame as RunResult::front.
 /// @throws InputError / IoError if the caches are missing or lack needed attributes.
 std::map<std::string, double> measureShot(Validation validation, const std::string& sceneFile,
-                                          const std::string& shotDir);
+                                          const std::string& shotDir,
+                                          std::vector<std::pair<double, double>>* front = nullptr);
+
+/// The dam break's self-convergence (a reference free of what the experiment has and the scene does not:
+/// gate, friction, air): for each completed run of `runs` with a front, against the run with the
+/// smallest fluid.spacing among those with the same other parameters, the metric "front_self": the RMS
+/// over the reference's frames from 0.05 s until its front has run 90 % of the way from the column's
+/// back wall to the far wall of (x - x_ref) / (x_ref - a), a the column's width. `scene` gives the
+/// geometry (any run's: the spacing does not change it). The reference itself gets no value. Does
+/// nothing unless `c` is a dam break converging along fluid.spacing. Throws nothing.
+void addFrontSelfConvergence(const StudyCase& c, const Scene& scene, std::vector<RunResult*> runs);
 /// The metric a validation type is judged by (plotted against wall time).
 std::string primaryMetric(Validation validation);
 
