@@ -4,7 +4,8 @@
 // fluid by -k_b psi_b grad W(x_f - x_b), the gradient of the constraint, so the walls' pressure does no
 // work on motion that keeps the constraints (as the WCSPH walls' own pressure, sim_boundary_pressure.comp).
 // Writes dfsph[N + b]: x the inverse Jacobi diagonal (0: no fluid near), y S_b - T_b, z the warm start
-// (the density solve's warm share of the last total), w T_b.
+// (the density solve's warm share of the last total), w T_b; and the sample's list of fluid neighbours
+// with its count (sph_dfsph.glsl, dfsphSampleSlot), which the solve's iterations read.
 // Without colliders, T_b is the share of a fluid filling the domain on its lattice, and the samples keep
 // their sorted order between substeps (the warm start and T_b are per sorted index).
 // DFSPH_BOUNDARY_REST_SHARE: the variant that writes T_b alone, once per solver (DFSPHSolver::
