@@ -91,8 +91,9 @@ std::vector<RunResult> runStudy(const StudySpec& spec, const std::string& outDir
   fs::create_directories(outDir);
   for (const StudyCase& c : spec.cases) {
     const size_t caseStart = results.size();
+    const std::vector<GridPoint> points = gridPoints(c);
     size_t index = 0;
-    for (const auto& point : gridPoints(c)) {
+    for (const auto& point : points) {
       RunResult r;
       r.caseName = c.name;
       r.primaryMetric = primaryMetric(c.validation);
@@ -117,10 +118,11 @@ std::vector<RunResult> runStudy(const StudySpec& spec, const std::string& outDir
                       fmt::format("{} {} {:.1f}s", c.name, toString(results.back().outcome.status),
                                   results.back().outcome.wallSeconds));
     }
-    std::vector<RunResult*> caseResults;
-    for (size_t k = caseStart; k < results.size(); ++k) caseResults.push_back(&results[k]);
-    if (!gridPoints(c).empty())
-      addFrontSelfConvergence(c, resolveRunScene(spec, c, gridPoints(c).front()), caseResults);
+    if (c.validation == Validation::DamBreak && !points.empty()) {
+      std::vector<RunResult*> caseResults;
+      for (size_t k = caseStart; k < results.size(); ++k) caseResults.push_back(&results[k]);
+      addFrontSelfConvergence(c, resolveRunScene(spec, c, points.front()), caseResults);
+    }
   }
   progress.finish();
   writeResultsCsv((fs::path(outDir) / "results.csv").string(), results);

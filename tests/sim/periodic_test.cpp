@@ -418,11 +418,7 @@ TEST(Periodic, FreeSlipWallsLetTheChannelAccelerateAsAPlug) {
 
 // Every dynamics check above for both solvers (DFSPH: the walls' rest shares continue across the seams
 // too; the Poiseuille channel has walls in y only and its body force along the periodic x).
-class PeriodicFlow : public ::testing::TestWithParam<std::string> {
- protected:
-  void SetUp() override { ctx_ = test::makeContext(); }
-  std::unique_ptr<GLContext> ctx_;
-};
+class PeriodicFlow : public test::SolverTest {};
 
 TEST_P(PeriodicFlow, MomentumAndParticlesConservedAcrossTheSeams) {
   expectMomentumConservedAcrossTheSeams(GetParam());
@@ -436,7 +432,6 @@ TEST_P(PeriodicFlow, PoiseuilleProfileFollowsMorrisSeries) {
   expectPoiseuilleProfile(GetParam());
 }
 
-INSTANTIATE_TEST_SUITE_P(Solvers, PeriodicFlow, ::testing::Values("wcsph", "dfsph"),
-                         [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
+INSTANTIATE_TEST_SUITE_P(Solvers, PeriodicFlow, ::testing::Values("wcsph", "dfsph"), test::solverParamName);
 
 }  // namespace

@@ -34,6 +34,18 @@ inline std::unique_ptr<GLContext> makeContext() {
   return GLContext::create({parseGLBackend(name ? name : "auto"), false});
 }
 
+/// A test run for each solver name its instantiation lists ("wcsph", "dfsph"), on a GL context; derive a
+/// suite from it and instantiate with solverParamName() for readable test names.
+class SolverTest : public ::testing::TestWithParam<std::string> {
+ protected:
+  void SetUp() override { ctx_ = makeContext(); }
+  std::unique_ptr<GLContext> ctx_;
+};
+
+inline std::string solverParamName(const ::testing::TestParamInfo<std::string>& info) {
+  return info.param;
+}
+
 /// Simulates `scene` into the shot TMP/sphfx_sim_test_NAME (emptied first unless `resume`), without a
 /// progress line; returns the shot folder.
 inline std::string simulateTestShot(const std::string& name, const Scene& scene, bool resume = false) {

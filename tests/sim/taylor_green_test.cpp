@@ -133,17 +133,12 @@ void expectExponentialDecay(const std::string& method) {
   EXPECT_LT(std::fabs(fine.rate - 1), std::fabs(coarse.rate - 1)) << method;
 }
 
-class TaylorGreen : public ::testing::TestWithParam<std::string> {
- protected:
-  void SetUp() override { ctx_ = test::makeContext(); }
-  std::unique_ptr<GLContext> ctx_;
-};
+class TaylorGreen : public test::SolverTest {};
 
 TEST_P(TaylorGreen, VortexDecaysAsExpMinus8Pi2NuTOverL2) {
   expectExponentialDecay(GetParam());
 }
 
-INSTANTIATE_TEST_SUITE_P(Solvers, TaylorGreen, ::testing::Values("wcsph", "dfsph"),
-                         [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
+INSTANTIATE_TEST_SUITE_P(Solvers, TaylorGreen, ::testing::Values("wcsph", "dfsph"), test::solverParamName);
 
 }  // namespace
