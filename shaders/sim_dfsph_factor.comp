@@ -15,12 +15,17 @@ layout(local_size_x = SIM_WG) in;
 layout(std430, binding = SPHFX_SSBO_SIM_DENSITY) writeonly buffer SimDensity { vec2 densityPressure[]; };
 layout(std430, binding = SPHFX_SSBO_SIM_ACCEL) writeonly buffer SimAccel { vec4 accel[]; };
 shared uint groupMaxDensity;
+#if defined(DFSPH_CLOSED_PERIODIC)
+layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_PARTIAL) writeonly buffer DfsphPartial { float partial[]; };
+shared float groupDensity[SIM_WG];  // a fixed-order tree, so the mean is deterministic
+#endif
 
 void main() {
   uint i = sphfxGlobalIndex();
   bool live = i < simCounts.x;
   if (gl_LocalInvocationIndex == 0u) groupMaxDensity = 0u;
   barrier();
+  float rhoSum = 0.0;
   if (live) {
     vec3 xi = sphFetchPos(i).xyz;
     uint n = simCounts.x, listed = 0u, blisted = 0u;
@@ -98,7 +103,17 @@ void main() {
     accel[i] = vec4(-hydrostatic / rho, 0.0);
 #endif
     atomicMax(groupMaxDensity, floatBitsToUint(rho));
+    rhoSum = rho;
   }
+#if defined(DFSPH_CLOSED_PERIODIC)
+  uint l = gl_LocalInvocationIndex;
+  groupDensity[l] = rhoSum;
+  for (uint s = SIM_WG / 2u; s > 0u; s >>= 1u) {
+    barrier();
+    if (l < s) groupDensity[l] += groupDensity[l + s];
+  }
+  if (l == 0u) partial[uint(DFSPH_GROUPS) + gl_WorkGroupID.x] = groupDensity[0];
+#endif
   barrier();
   if (gl_LocalInvocationIndex == 0u) atomicMax(stateMaxDensity, groupMaxDensity);
 }

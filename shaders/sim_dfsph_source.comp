@@ -96,7 +96,12 @@ void main() {
       inc = 0.0;
     } else {
       float dt = stateDt;
-      float residual = sphFetchDensity(i).x + dt * densityChange(i) - simFluid.x;
+#if defined(DFSPH_CLOSED_PERIODIC)
+      float rest = simFluid.x + dfMeanExcess;  // sph_dfsph.glsl
+#else
+      float rest = simFluid.x;
+#endif
+      float residual = sphFetchDensity(i).x + dt * densityChange(i) - rest;
       inc = projectedIncrement(i, residual, f.x / (dt * dt), f.z, error);
     }
 #endif

@@ -27,8 +27,18 @@ layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_CONTROL) buffer DfsphControl {
   uint dfUnconverged[2];  // solves that stopped at DFSPH_MAX_ITER above their tolerance
   // Indirect dispatch arguments: source, reduce, apply; then their live values.
   uint dfArgs[18];
-  uint dfPad[3];  // the GL rounds the block's size up to 16 bytes
+  // DFSPH_CLOSED_PERIODIC: the mean density of the substep's start less the rest density, which the
+  // constant-density solve's residuals leave out (sim_dfsph_begin.comp).
+  float dfMeanExcess;
+  uint dfPad[2];  // the GL rounds the block's size up to 16 bytes
 };
+
+// DFSPH_CLOSED_PERIODIC (DFSPHSolver::closedPeriodic: fluid fills a domain periodic along every axis,
+// with no colliders): the constant-density solve is a Poisson problem with periodic boundaries, solvable
+// only for a source of zero mean. Its corrections cannot change the mean predicted density (the pair
+// sums cancel), and the kernel sum of a disordered packing differs from the lattice's at the same volume,
+// so the mean density of the fixed volume drifts from rest; the solve targets the mean instead. The
+// factor pass writes each work group's density sum to partial[DFSPH_GROUPS + group].
 
 // Kernel gradient of every DFSPH sum (density change, factor, pressure corrections): the spiky gradient
 // of the WCSPH force, whose strong short-range repulsion keeps particles off the wall samples (poly6's

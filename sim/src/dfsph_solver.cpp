@@ -134,6 +134,16 @@ ShaderDefines DFSPHSolver::wallDefines(const Scene& scene, ShaderDefines d) {
   return d;
 }
 
+bool DFSPHSolver::closedPeriodic(const Scene& scene, uint32_t particles) {
+  if (scene.domain.periodic.size() < 3 || !scene.colliders.empty() || scene.changesParticleCount())
+    return false;
+  const double x = scene.domain.max[0] - scene.domain.min[0], y = scene.domain.max[1] - scene.domain.min[1],
+               z = scene.domain.max[2] - scene.domain.min[2], d = scene.fluid.spacing;
+  // A missing layer of sites along any axis leaves a free surface: allow less than half of one.
+  const double layer = 0.5 * d * std::max({x * y, y * z, x * z});
+  return double(particles) * d * d * d >= x * y * z - layer;
+}
+
 ShaderDefines DFSPHSolver::sampleSolveDefines(const Scene& scene, ShaderDefines d) {
   return factorDefines(
       scene, solveDefines(scene.solver.dfsph, scene.solver.kernelSupport, std::move(d), false, 1, 0));
@@ -144,9 +154,13 @@ DFSPHSolver::DFSPHSolver(const Scene& scene, const DispatchGate& gate, const Sha
     : gate_(&gate),
       settings_(scene.solver.dfsph),
       kernelSupport_(scene.solver.kernelSupport),
-      defines_(wallDefines(scene, plainDefines)),
       particles_(particles),
       groups_(std::max<uint32_t>(1, (particles + kSimWorkGroup - 1) / kSimWorkGroup)),
+      closedPeriodic_(closedPeriodic(scene, particles)),
+      defines_(
+          closedPeriodic_
+              ? wallDefines(scene, plainDefines).set("DFSPH_CLOSED_PERIODIC").set("DFSPH_GROUPS", groups_)
+              : wallDefines(scene, plainDefines)),
       listSlots_(listSlots(scene)),
       boundaryEntry_(boundaryEntry),
       boundarySamples_(boundarySamples),
@@ -154,7 +168,7 @@ DFSPHSolver::DFSPHSolver(const Scene& scene, const DispatchGate& gate, const Sha
       particle_(size_t(std::max<uint32_t>(particles + boundarySamples, 1)) * 16),
       increment_(size_t(std::max<uint32_t>(particles + boundarySamples, 1)) * 4),
       warm_(size_t(std::max<uint32_t>(particles, 1)) * 4),
-      partial_(size_t(groups_) * 4),
+      partial_(size_t(groups_) * (closedPeriodic_ ? 2 : 1) * 4),  // the group densities follow
       control_(sizeof(DfsphControl)),
       // One spare slot: sim_dfsph_factor.comp writes every candidate to the slot after the last neighbour.
       // Constraint walls: the samples' lists and counts follow the particles' (sph_dfsph.glsl).

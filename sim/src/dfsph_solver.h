@@ -42,7 +42,8 @@ struct DfsphControl {
   float lastError;
   uint32_t unconverged[2];  ///< solves that stopped at max_iterations above their tolerance
   uint32_t args[18];        ///< indirect arguments of source, reduce, apply; then their live values
-  uint32_t pad[3];          ///< the GL rounds the block's size up to 16 bytes
+  float meanExcess;         ///< DFSPH_CLOSED_PERIODIC: the substep's mean density less the rest density
+  uint32_t pad[2];          ///< the GL rounds the block's size up to 16 bytes
 };
 
 /// DFSPH solve statistics of the frame simulated last.
@@ -108,6 +109,11 @@ class DFSPHSolver : public PressureSolver {
   /// and the colliders (the samples' resting share, sim_dfsph_boundary_factor.comp), and the spiky
   /// density's pressure scale (which needs these walls; sph_dfsph.glsl). Throws nothing.
   static ShaderDefines wallDefines(const Scene& scene, ShaderDefines defines);
+  /// True where the fluid fills a domain periodic along every axis (its `particles` starting lattice
+  /// sites hold the domain's volume) with no colliders and a fixed particle count: the constant-density
+  /// solve then targets the mean density (DFSPH_CLOSED_PERIODIC, sph_dfsph.glsl), the only level a
+  /// fixed volume can hold. Throws nothing.
+  static bool closedPeriodic(const Scene& scene, uint32_t particles);
   /// `defines` (with wallDefines()) plus what sim_dfsph_boundary_source.comp needs, in both its variants
   /// (iteration; DFSPH_BOUNDARY_APPLY): the constant-density solve's and the factor pass's defines.
   static ShaderDefines sampleSolveDefines(const Scene& scene, ShaderDefines defines);
@@ -153,8 +159,9 @@ class DFSPHSolver : public PressureSolver {
   /// compiled into the programs as a #define).
   DfsphSettings settings_;
   double kernelSupport_;
-  ShaderDefines defines_;  ///< the scene's defines with wallDefines()
   uint32_t particles_, groups_;
+  bool closedPeriodic_;    ///< closedPeriodic(): the partial buffer also holds the group densities
+  ShaderDefines defines_;  ///< the scene's defines with wallDefines() (and DFSPH_CLOSED_PERIODIC)
   int listSlots_;
   uint32_t boundaryEntry_, boundarySamples_;  ///< the gate's entry over the wall samples, their count
   bool boundaryConstraints_;                  ///< solver.dfsph.walls "constraints"

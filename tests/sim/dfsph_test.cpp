@@ -354,6 +354,21 @@ TEST(DFSPHRelaxation, SpectralBoundMatchesThePowerIterationOnALattice) {
 
 // At kernel supports 3 and 4 the defaults hold the resting tank: with the default relaxation 0.5 the
 // iteration diverged there in the first frames (at support 3, 3,136 kg/m^3 at 0.04 s).
+// The mean-density target applies only where the fluid fills a domain periodic along every axis: a
+// missing layer leaves a free surface, whose particles' deficient density must not lower the target.
+TEST(DFSPHClosedPeriodic, OnlyAFilledFullyPeriodicDomainIsClosed) {
+  const std::string tg = std::string(SPHFX_SOURCE_DIR) + "/studies/scenes/taylor_green.json";
+  const Scene full = loadScene(tg, {"solver.method=dfsph"});
+  const uint32_t n = uint32_t(countInitialParticles(full));
+  EXPECT_EQ(n, 600u);  // 10 x 6 x 10 sites at spacing 0.01
+  EXPECT_TRUE(DFSPHSolver::closedPeriodic(full, n));
+  EXPECT_FALSE(DFSPHSolver::closedPeriodic(full, n - 100));  // one layer of 10 x 10 missing
+  EXPECT_FALSE(DFSPHSolver::closedPeriodic(
+      loadScene(tg, {"solver.method=dfsph", "domain.periodic=[\"x\",\"z\"]"}), n));
+  const Scene tank = scene("hydrostatic.json", {"solver.method=dfsph"});
+  EXPECT_FALSE(DFSPHSolver::closedPeriodic(tank, uint32_t(countInitialParticles(tank))));
+}
+
 TEST_F(DFSPH, LargerKernelSupportsKeepTheTankBounded) {
   for (const char* support : {"3", "4"}) {
     const Scene s = scene("hydrostatic.json", {"fluid.spacing=0.02", "time.fps=20", "time.end_frame=11",
