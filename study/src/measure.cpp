@@ -66,6 +66,7 @@ std::map<std::string, double> measureHydrostatic(const Scene& scene,
     settle = frames[i].time;
   }
   return {{"pressure_l2", e.pressureL2},
+          {"pressure_profile_l2", e.profileL2},
           {"density_mean_error", std::fabs(e.meanDensityError)},
           {"density_max_error", e.maxDensityError},
           {"settle_time", settle}};

@@ -48,6 +48,10 @@ HydrostaticError hydrostaticError(const ParticleFrame& f, double rho0, double g,
     throw InputError("hydrostatic error: the cache lacks density or pressure (set cache.attributes)");
   HydrostaticError e;
   double num = 0, den = 0, densitySum = 0;
+  const double slab = h / 2;
+  const size_t slabs = size_t(std::max(1.0, std::ceil((H - h) / slab)));
+  std::vector<double> sum(slabs, 0), refSum(slabs, 0);
+  std::vector<int> count(slabs, 0);
   for (size_t i = 0; i < f.size(); ++i) {
     densitySum += f.density[i];
     e.maxDensityError = std::max(e.maxDensityError, std::fabs(f.density[i] / rho0 - 1));
@@ -56,8 +60,20 @@ HydrostaticError hydrostaticError(const ParticleFrame& f, double rho0, double g,
     const double ref = hydrostaticPressure(rho0, g, H, y);
     num += (f.pressure[i] - ref) * (f.pressure[i] - ref);
     den += ref * ref;
+    const size_t b = std::min(slabs - 1, size_t(std::max(0.0, y / slab)));
+    sum[b] += f.pressure[i];
+    refSum[b] += ref;
+    ++count[b];
   }
   e.pressureL2 = den > 0 ? std::sqrt(num / den) : 0;
+  double profileNum = 0, profileDen = 0;
+  for (size_t b = 0; b < slabs; ++b) {
+    if (count[b] == 0) continue;
+    const double sim = sum[b] / count[b], ref = refSum[b] / count[b];
+    profileNum += (sim - ref) * (sim - ref);
+    profileDen += ref * ref;
+  }
+  e.profileL2 = profileDen > 0 ? std::sqrt(profileNum / profileDen) : 0;
   e.meanDensityError = f.size() ? densitySum / double(f.size()) / rho0 - 1 : 0;
   return e;
 }

@@ -38,7 +38,10 @@ struct CurveError {
 CurveError relativeError(const std::vector<CurveSample>& simulated, const Table& reference, double tMax);
 
 struct HydrostaticError {
-  double pressureL2 = 0;        ///< ||p - rho0 g (H - y)|| / ||rho0 g (H - y)|| over particles below H - h
+  double pressureL2 = 0;  ///< ||p - rho0 g (H - y)|| / ||rho0 g (H - y)|| over particles below H - h
+  /// The same norm of the pressure profile: the mean pressure of the particles in each slab h / 2 high
+  /// against the mean reference at the same particles (the field, without the particle-scale noise).
+  double profileL2 = 0;
   double meanDensityError = 0;  ///< mean(rho) / rho0 - 1
   double maxDensityError = 0;   ///< max |rho / rho0 - 1|
 };

@@ -59,8 +59,16 @@ TEST(Metrics, HydrostaticErrorIsZeroForTheExactProfile) {
   HydrostaticError e = hydrostaticError(f, rho0, g, H, 0.02);
   EXPECT_LT(e.pressureL2, 1e-6);
   EXPECT_NEAR(e.meanDensityError, 0, 1e-9);
+  EXPECT_LT(e.profileL2, 1e-6);
   for (auto& p : f.pressure) p *= 1.05f;
   EXPECT_NEAR(hydrostaticError(f, rho0, g, H, 0.02).pressureL2, 0.05, 1e-4);
+  EXPECT_NEAR(hydrostaticError(f, rho0, g, H, 0.02).profileL2, 0.05, 1e-4);
+  // Noise that averages out over a layer (alternate particles +-10 %) is in the particles' norm only.
+  for (size_t i = 0; i < f.size(); ++i)
+    f.pressure[i] = float(rho0 * g * (H - f.position[i][1]) * (i % 2 ? 1.1 : 0.9));
+  e = hydrostaticError(f, rho0, g, H, 0.02);
+  EXPECT_NEAR(e.pressureL2, 0.1, 1e-4);
+  EXPECT_LT(e.profileL2, 1e-6);
   f.density.clear();
   EXPECT_THROW(hydrostaticError(f, rho0, g, H, 0.02), InputError);
 }
