@@ -25,7 +25,9 @@ void main() {
   bool live = i < simCounts.x;
   if (gl_LocalInvocationIndex == 0u) groupMaxDensity = 0u;
   barrier();
-  float rhoSum = 0.0;
+#if defined(DFSPH_CLOSED_PERIODIC)
+  float liveDensity = 0.0;  // this invocation's share of the group's density sum
+#endif
   if (live) {
     vec3 xi = sphFetchPos(i).xyz;
     uint n = simCounts.x, listed = 0u, blisted = 0u;
@@ -103,11 +105,13 @@ void main() {
     accel[i] = vec4(-hydrostatic / rho, 0.0);
 #endif
     atomicMax(groupMaxDensity, floatBitsToUint(rho));
-    rhoSum = rho;
+#if defined(DFSPH_CLOSED_PERIODIC)
+    liveDensity = rho;
+#endif
   }
 #if defined(DFSPH_CLOSED_PERIODIC)
   uint l = gl_LocalInvocationIndex;
-  groupDensity[l] = rhoSum;
+  groupDensity[l] = liveDensity;
   for (uint s = SIM_WG / 2u; s > 0u; s >>= 1u) {
     barrier();
     if (l < s) groupDensity[l] += groupDensity[l + s];

@@ -43,15 +43,50 @@ CurveError relativeError(const std::vector<CurveSample>& simulated, const Table&
   return e;
 }
 
+PressureSlabs::PressureSlabs(double rho0, double g, double H, double h)
+    : rho0_(rho0), g_(g), H_(H), h_(h), slab_(h / 2) {
+  const size_t slabs = size_t(std::max(1.0, std::ceil((H - h) / slab_)));
+  pressure_.assign(slabs, 0);
+  reference_.assign(slabs, 0);
+  count_.assign(slabs, 0);
+}
+
+void PressureSlabs::add(const ParticleFrame& f) {
+  if (f.pressure.size() != f.size())
+    throw InputError("hydrostatic pressure: the cache lacks pressure (set cache.attributes)");
+  for (size_t i = 0; i < f.size(); ++i) {
+    const double y = f.position[i][1];
+    if (y > H_ - h_) continue;
+    const size_t b = std::min(count_.size() - 1, size_t(std::max(0.0, y / slab_)));
+    pressure_[b] += f.pressure[i];
+    reference_[b] += hydrostaticPressure(rho0_, g_, H_, y);
+    ++count_[b];
+  }
+}
+
+double PressureSlabs::profileError() const {
+  double num = 0, den = 0;
+  for (size_t b = 0; b < count_.size(); ++b) {
+    if (count_[b] == 0) continue;
+    const double sim = pressure_[b] / double(count_[b]), ref = reference_[b] / double(count_[b]);
+    num += (sim - ref) * (sim - ref);
+    den += ref * ref;
+  }
+  return den > 0 ? std::sqrt(num / den) : 0;
+}
+
+std::vector<double> PressureSlabs::ratios() const {
+  std::vector<double> r(count_.size(), 0);
+  for (size_t b = 0; b < count_.size(); ++b)
+    if (count_[b] > 0 && reference_[b] != 0) r[b] = pressure_[b] / reference_[b];
+  return r;
+}
+
 HydrostaticError hydrostaticError(const ParticleFrame& f, double rho0, double g, double H, double h) {
   if (f.density.size() != f.size() || f.pressure.size() != f.size())
     throw InputError("hydrostatic error: the cache lacks density or pressure (set cache.attributes)");
   HydrostaticError e;
   double num = 0, den = 0, densitySum = 0;
-  const double slab = h / 2;
-  const size_t slabs = size_t(std::max(1.0, std::ceil((H - h) / slab)));
-  std::vector<double> sum(slabs, 0), refSum(slabs, 0);
-  std::vector<int> count(slabs, 0);
   for (size_t i = 0; i < f.size(); ++i) {
     densitySum += f.density[i];
     e.maxDensityError = std::max(e.maxDensityError, std::fabs(f.density[i] / rho0 - 1));
@@ -60,20 +95,11 @@ HydrostaticError hydrostaticError(const ParticleFrame& f, double rho0, double g,
     const double ref = hydrostaticPressure(rho0, g, H, y);
     num += (f.pressure[i] - ref) * (f.pressure[i] - ref);
     den += ref * ref;
-    const size_t b = std::min(slabs - 1, size_t(std::max(0.0, y / slab)));
-    sum[b] += f.pressure[i];
-    refSum[b] += ref;
-    ++count[b];
   }
   e.pressureL2 = den > 0 ? std::sqrt(num / den) : 0;
-  double profileNum = 0, profileDen = 0;
-  for (size_t b = 0; b < slabs; ++b) {
-    if (count[b] == 0) continue;
-    const double sim = sum[b] / count[b], ref = refSum[b] / count[b];
-    profileNum += (sim - ref) * (sim - ref);
-    profileDen += ref * ref;
-  }
-  e.profileL2 = profileDen > 0 ? std::sqrt(profileNum / profileDen) : 0;
+  PressureSlabs slabs(rho0, g, H, h);
+  slabs.add(f);
+  e.profileL2 = slabs.profileError();
   e.meanDensityError = f.size() ? densitySum / double(f.size()) / rho0 - 1 : 0;
   return e;
 }

@@ -46,6 +46,26 @@ struct HydrostaticError {
   double maxDensityError = 0;   ///< max |rho / rho0 - 1|
 };
 
+/// A resting column's pressure in horizontal slabs h / 2 high from the floor (y = 0) up to H - h: per slab
+/// the sums of the particles' pressure and of the reference rho0 g (H - y) at the same particles, over
+/// every frame add() was given (a time average when several are).
+class PressureSlabs {
+ public:
+  PressureSlabs(double restDensity, double gravity, double surfaceHeight, double kernelRadius);
+  /// Adds the frame's particles below H - h. @throws InputError if the frame lacks pressure.
+  void add(const ParticleFrame& frame);
+  /// ||slab mean - reference mean|| / ||reference mean|| over the slabs holding particles (0 if none).
+  double profileError() const;
+  /// Mean pressure over mean reference per slab (0 where a slab is empty).
+  std::vector<double> ratios() const;
+  double slabHeight() const { return slab_; }
+
+ private:
+  double rho0_, g_, H_, h_, slab_;
+  std::vector<double> pressure_, reference_;
+  std::vector<long> count_;
+};
+
 /// Hydrostatic errors; needs the cache's density and pressure attributes. Particles within one kernel
 /// radius of the free surface are left out of the pressure norm (SPH kernels are truncated there).
 /// @throws InputError if the frame lacks density or pressure.

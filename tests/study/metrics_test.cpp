@@ -73,6 +73,26 @@ TEST(Metrics, HydrostaticErrorIsZeroForTheExactProfile) {
   EXPECT_THROW(hydrostaticError(f, rho0, g, H, 0.02), InputError);
 }
 
+// A column ringing about the hydrostatic profile: frames 10 % above and 10 % below it average to it.
+TEST(Metrics, PressureSlabsAverageFramesOverTime) {
+  const double H = 0.3, rho0 = 1000, g = 9.81;
+  ParticleFrame high = lattice(4, 30, 4, 0.01), low = high;
+  for (const auto& p : high.position) {
+    high.pressure.push_back(float(1.1 * rho0 * g * (H - p[1])));
+    low.pressure.push_back(float(0.9 * rho0 * g * (H - p[1])));
+  }
+  PressureSlabs slabs(rho0, g, H, 0.02);
+  slabs.add(high);
+  EXPECT_NEAR(slabs.profileError(), 0.1, 1e-5);
+  slabs.add(low);
+  EXPECT_LT(slabs.profileError(), 1e-6);
+  const std::vector<double> r = slabs.ratios();
+  ASSERT_EQ(r.size(), 28u);  // slabs 0.01 m high up to H - h = 0.28 m
+  for (double x : r) EXPECT_NEAR(x, 1.0, 1e-6);
+  low.pressure.clear();
+  EXPECT_THROW(slabs.add(low), InputError);
+}
+
 TEST(Metrics, PoiseuilleProfileErrorOfTheExactSolutionIsSmall) {
   const double L = 1e-3, F = 1e-4, nu = 1e-6;
   ParticleFrame f = lattice(4, 40, 1, L / 40);
