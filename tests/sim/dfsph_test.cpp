@@ -352,8 +352,6 @@ TEST(DFSPHRelaxation, SpectralBoundMatchesThePowerIterationOnALattice) {
                 settings.jacobiOmega * DFSPHSolver::jacobiSpectralBound(2.0), 1e-9);
 }
 
-// At kernel supports 3 and 4 the defaults hold the resting tank: with the default relaxation 0.5 the
-// iteration diverged there in the first frames (at support 3, 3,136 kg/m^3 at 0.04 s).
 // The mean-density target applies only where the fluid fills a domain periodic along every axis: a
 // missing layer leaves a free surface, whose particles' deficient density must not lower the target.
 TEST(DFSPHClosedPeriodic, OnlyAFilledFullyPeriodicDomainIsClosed) {
@@ -369,6 +367,8 @@ TEST(DFSPHClosedPeriodic, OnlyAFilledFullyPeriodicDomainIsClosed) {
   EXPECT_FALSE(DFSPHSolver::closedPeriodic(tank, uint32_t(countInitialParticles(tank))));
 }
 
+// At kernel supports 3 and 4 the defaults hold the resting tank: with the default relaxation 0.5 the
+// iteration diverged there in the first frames (at support 3, 3,136 kg/m^3 at 0.04 s).
 TEST_F(DFSPH, LargerKernelSupportsKeepTheTankBounded) {
   for (const char* support : {"3", "4"}) {
     const Scene s = scene("hydrostatic.json", {"fluid.spacing=0.02", "time.fps=20", "time.end_frame=11",
