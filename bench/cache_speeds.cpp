@@ -8,8 +8,9 @@
 // (docs/design.md, "Boundaries"), and the five closest particles with their wall. With --layers, for a
 // fluid at rest that fills the domain's floor: the particles sorted by height in layers of A / s^2 (A the
 // floor's area), each layer's mean height, and the gaps between them in spacings: how much of a resting
-// column's surface drift is the bottom layer's, the bulk's compression and the top layer's
-// (docs/validation.md, "Known limits").
+// column's surface drift is the bottom layer's, the bulk's compression and the top layer's, and with a
+// cached `density` how much of the compression the solver's density sum sees (docs/validation.md,
+// "Known limits").
 //   cache_speeds SHOT FRAME... [--top N] [--densest N] [--near-walls] [--layers]
 #include <algorithm>
 #include <array>
@@ -106,15 +107,23 @@ double mean(const std::vector<double>& v, size_t first, size_t last) {
 }
 
 // Layers of floorCount particles by height: the bottom layer above the floor, the mean gap between
-// neighbouring layers in the lower, middle and upper third of the column, and the top layer's gap.
+// neighbouring layers in the lower, middle and upper third of the column, and the top layer's gap; with
+// a cached `density`, each part's mean density, which says how much of the gaps' compression the solver's
+// density sum sees.
 void reportLayers(const sphfx::Domain& w, const sphfx::ParticleFrame& f) {
   const double s = f.particleSpacing;
   const auto floorCount = size_t(std::lround((w.max[0] - w.min[0]) * (w.max[2] - w.min[2]) / (s * s)));
   const size_t layers = floorCount ? f.size() / floorCount : 0;
   if (layers < 6) throw std::runtime_error("--layers needs at least 6 layers of A / s^2 particles");
-  std::vector<double> y(f.size());
-  for (size_t i = 0; i < f.size(); ++i) y[i] = (double(f.position[i][1]) - w.min[1]) / s;
-  std::sort(y.begin(), y.end());
+  std::vector<size_t> order(f.size());
+  std::iota(order.begin(), order.end(), size_t(0));
+  std::sort(order.begin(), order.end(),
+            [&](size_t a, size_t b) { return f.position[a][1] < f.position[b][1]; });
+  std::vector<double> y(f.size()), rho(f.density.empty() ? 0 : f.size());
+  for (size_t k = 0; k < order.size(); ++k) {
+    y[k] = (double(f.position[order[k]][1]) - w.min[1]) / s;
+    if (!rho.empty()) rho[k] = f.density[order[k]];
+  }
   std::vector<double> height(layers), gap(layers - 1);
   for (size_t k = 0; k < layers; ++k) height[k] = mean(y, k * floorCount, (k + 1) * floorCount);
   for (size_t k = 0; k + 1 < layers; ++k) gap[k] = height[k + 1] - height[k];
@@ -124,6 +133,14 @@ void reportLayers(const sphfx::Domain& w, const sphfx::ParticleFrame& f) {
       "third %.4f, middle %.4f, upper third %.4f, top layer %.4f\n",
       layers, floorCount, height[0], height[layers - 1], mean(gap, 0, third), mean(gap, third, inner - third),
       mean(gap, inner - third, inner), gap[layers - 2]);
+  if (rho.empty()) return;
+  // Layer k's particles are k * floorCount .. (k + 1) * floorCount; gap k lies between layers k and k + 1.
+  auto layerDensity = [&](size_t first, size_t last) {
+    return mean(rho, first * floorCount, last * floorCount);
+  };
+  std::printf("  cached density (kg/m^3): lower third %.2f, middle %.2f, upper third %.2f, top layer %.2f\n",
+              layerDensity(0, third + 1), layerDensity(third + 1, inner - third + 1),
+              layerDensity(inner - third + 1, layers - 1), layerDensity(layers - 1, layers));
 }
 
 void report(const std::string& shot, int frameNumber, size_t top, size_t densest, const sphfx::Domain& domain,

@@ -1,6 +1,7 @@
 // WCSPH pass 1 (then sim_boundary_pressure.comp, sim_force.comp): density (the scene kernel, sphW) from fluid neighbours and Akinci 2012 boundary samples (psi W), then
 // pressure from the equation of state. Also reduces the largest density for the health check.
 #include "sph_params.glsl"
+#include "sph_group_max.glsl"
 #define SPH_FLUID_START(c) cellStart[c]
 #define SPH_BOUNDARY_START(c) bStart[c]
 #include "sph_neighbors.glsl"
@@ -20,13 +21,11 @@ layout(std430, binding = SPHFX_SSBO_SIM_DENSITY) writeonly buffer SimDensity { v
 // sim_force tests slots past the 32nd and the cell across a periodic seam itself.
 layout(std430, binding = SPHFX_SSBO_SIM_NEIGHBORS) writeonly buffer SimNeighbors { uint neighbors[]; };
 #endif
-shared uint groupMaxDensity;
 
 void main() {
   uint i = sphfxGlobalIndex();
   bool live = i < simCounts.x;
-  if (gl_LocalInvocationIndex == 0u) groupMaxDensity = 0u;
-  barrier();
+  SIM_GROUP_MAX_BEGIN();
   if (live) {
     vec3 xi = pos[i].xyz;
     float fluid = 0.0, wall = 0.0;
@@ -61,8 +60,8 @@ void main() {
     SPH_END_FOR_EACH_CELL_RANGE
     float rho = simGravity.w * fluid + wall;
     densityPressure[i] = vec2(rho, sphPressure(rho) / (rho * rho));
-    atomicMax(groupMaxDensity, floatBitsToUint(rho));  // positive floats order as their bits; NaN is largest
+    SIM_GROUP_MAX(0, stateMaxDensity, floatBitsToUint(rho));
   }
-  barrier();
-  if (gl_LocalInvocationIndex == 0u) atomicMax(stateMaxDensity, groupMaxDensity);
+  SIM_GROUP_MAX_END();
+  SIM_GROUP_MAX_FLUSH(0, stateMaxDensity);
 }

@@ -24,7 +24,7 @@ void main() {
 #endif
 #if defined(DFSPH_CLOSED_PERIODIC) && !defined(DFSPH_DIVERGENCE)
   float sum = 0.0;
-  for (uint k = 0u; k < uint(DFSPH_GROUPS); ++k) sum += partial[uint(DFSPH_GROUPS) + k];
+  for (uint k = 0u; k < uint(DFSPH_GROUPS); ++k) sum += partial[uint(DFSPH_RESIDUAL_SLOTS) + k];
   dfMeanExcess = sum / float(simCounts.x) - simFluid.x;
 #endif
   bool open = dispatchArgs[uint(DFSPH_GATE_WORD)] != 0u;

@@ -9,12 +9,12 @@
 // Reduces the largest density (health).
 #define DFSPH_LIST_WRITE
 #include "sph_params.glsl"
+#include "sph_group_max.glsl"
 #include "sph_neighbors.glsl"
 #include "sph_dfsph.glsl"
 layout(local_size_x = SIM_WG) in;
 layout(std430, binding = SPHFX_SSBO_SIM_DENSITY) writeonly buffer SimDensity { vec2 densityPressure[]; };
 layout(std430, binding = SPHFX_SSBO_SIM_ACCEL) writeonly buffer SimAccel { vec4 accel[]; };
-shared uint groupMaxDensity;
 #if defined(DFSPH_CLOSED_PERIODIC)
 layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_PARTIAL) writeonly buffer DfsphPartial { float partial[]; };
 shared float groupDensity[SIM_WG];  // a fixed-order tree, so the mean is deterministic
@@ -23,8 +23,7 @@ shared float groupDensity[SIM_WG];  // a fixed-order tree, so the mean is determ
 void main() {
   uint i = sphfxGlobalIndex();
   bool live = i < simCounts.x;
-  if (gl_LocalInvocationIndex == 0u) groupMaxDensity = 0u;
-  barrier();
+  SIM_GROUP_MAX_BEGIN();
 #if defined(DFSPH_CLOSED_PERIODIC)
   float liveDensity = 0.0;  // this invocation's share of the group's density sum
 #endif
@@ -104,7 +103,7 @@ void main() {
 #else
     accel[i] = vec4(-hydrostatic / rho, 0.0);
 #endif
-    atomicMax(groupMaxDensity, floatBitsToUint(rho));
+    SIM_GROUP_MAX(0, stateMaxDensity, floatBitsToUint(rho));
 #if defined(DFSPH_CLOSED_PERIODIC)
     liveDensity = rho;
 #endif
@@ -116,8 +115,8 @@ void main() {
     barrier();
     if (l < s) groupDensity[l] += groupDensity[l + s];
   }
-  if (l == 0u) partial[uint(DFSPH_GROUPS) + gl_WorkGroupID.x] = groupDensity[0];
+  if (l == 0u) partial[uint(DFSPH_RESIDUAL_SLOTS) + gl_WorkGroupID.x] = groupDensity[0];
 #endif
-  barrier();
-  if (gl_LocalInvocationIndex == 0u) atomicMax(stateMaxDensity, groupMaxDensity);
+  SIM_GROUP_MAX_END();
+  SIM_GROUP_MAX_FLUSH(0, stateMaxDensity);
 }

@@ -5,11 +5,11 @@
 // displacement-bounded CFL step (sim_timestep.comp).
 #define DFSPH_LIST_READ
 #include "sph_params.glsl"
+#include "sph_group_max.glsl"
 #include "sph_neighbors.glsl"
 #include "sph_dfsph.glsl"
 layout(local_size_x = SIM_WG) in;
 layout(std430, binding = SPHFX_SSBO_SIM_ACCEL) buffer SimAccel { vec4 accel[]; };
-shared uint groupMaxSpeed2, groupMaxAccel2;
 
 #if defined(VISCOSITY_ARTIFICIAL)
 // Monaghan's viscosity as in sim_force.comp: nu (v_ij . x_ij) / (|x_ij|^2 + 0.01 h^2) when approaching.
@@ -87,11 +87,7 @@ void viscosityAndWarmPressure(uint i, vec3 xi, vec3 vi, float rhoi, float pi, ou
 void main() {
   uint i = sphfxGlobalIndex();
   bool live = i < simCounts.x;
-  if (gl_LocalInvocationIndex == 0u) {
-    groupMaxSpeed2 = 0u;
-    groupMaxAccel2 = 0u;
-  }
-  barrier();
+  SIM_GROUP_MAX_BEGIN();
   if (live) {
     vec4 v = sphFetchVel(i);
     vec3 xi = sphFetchPos(i).xyz, vi = v.xyz, visc, pressure;
@@ -99,12 +95,10 @@ void main() {
     // The time step bounds the non-pressure acceleration only (the solve decides the pressure).
     vec3 a = simGravity.xyz + visc;
     accel[i] = vec4(a + pressure + accel[i].xyz, 0.0);  // accel: the walls' hydrostatic push
-    atomicMax(groupMaxSpeed2, floatBitsToUint(dot(vi, vi)));
-    atomicMax(groupMaxAccel2, floatBitsToUint(dot(a, a)));
+    SIM_GROUP_MAX(0, stateMaxSpeed2, floatBitsToUint(dot(vi, vi)));
+    SIM_GROUP_MAX(1, stateMaxAccel2, floatBitsToUint(dot(a, a)));
   }
-  barrier();
-  if (gl_LocalInvocationIndex == 0u) {
-    atomicMax(stateMaxSpeed2, groupMaxSpeed2);
-    atomicMax(stateMaxAccel2, groupMaxAccel2);
-  }
+  SIM_GROUP_MAX_END();
+  SIM_GROUP_MAX_FLUSH(0, stateMaxSpeed2);
+  SIM_GROUP_MAX_FLUSH(1, stateMaxAccel2);
 }

@@ -1,8 +1,9 @@
-// DFSPH solver iteration, between source and apply: sums the work groups' residuals in a fixed order
-// (deterministic), and ends the solve on the GPU once the average error is within tolerance after
-// DFSPH_MIN_ITER corrections, or after DFSPH_MAX_ITER: it empties the solve's indirect dispatches, so
-// the CPU queues iterations without reading back each one. Records the solve in the frame statistics,
-// and counts it as unconverged when DFSPH_MAX_ITER stopped it above the tolerance.
+// DFSPH solver iteration, between source and apply: sums the source pass's DFSPH_RESIDUAL_SLOTS residual
+// sums (its work groups' or particles', sim_dfsph_source.comp) in a fixed order (deterministic), and ends
+// the solve on the GPU once the average error is within tolerance after DFSPH_MIN_ITER corrections, or
+// after DFSPH_MAX_ITER: it empties the solve's indirect dispatches, so the CPU queues iterations without
+// reading back each one. Records the solve in the frame statistics, and counts it as unconverged when
+// DFSPH_MAX_ITER stopped it above the tolerance.
 #include "sph_params.glsl"
 #include "sph_dfsph.glsl"
 layout(local_size_x = 256) in;
@@ -12,7 +13,7 @@ shared float sums[256];
 void main() {
   uint l = gl_LocalInvocationIndex;
   float s = 0.0;
-  for (uint k = l; k < uint(DFSPH_GROUPS); k += 256u) s += partial[k];
+  for (uint k = l; k < uint(DFSPH_RESIDUAL_SLOTS); k += 256u) s += partial[k];
   sums[l] = s;
   for (uint w = 128u; w > 0u; w >>= 1u) {
     barrier();

@@ -1,6 +1,8 @@
 // DFSPH solver iteration, part 1 (Bender & Koschier 2017, algorithms 2 and 3): the residual of every
-// particle and its stiffness increment, and per work group the residual sum (a fixed-order tree, so the
-// average is deterministic).
+// particle and its stiffness increment, and the residuals for sim_dfsph_reduce.comp's average (fixed
+// order, so the average is deterministic): SIM_WORKGROUP_REDUCE, each work group's sum (a tree in
+// shared memory) in partial[group]; otherwise each particle's in partial[i], no barrier
+// (sph_group_max.glsl says why).
 //   DFSPH_DIVERGENCE: residual D rho / Dt of the current velocities; increment residual * factor.
 //   otherwise: predicted density rho* = rho + dt D rho / Dt of the predicted velocities v*, residual
 //   rho* - rho0; increment residual * factor / dt^2.
@@ -31,7 +33,9 @@ uniform uint uWarm;
 // holds the warm start, not an iteration's increment). Compiled in only when the scene's momentum > 0.
 uniform float uMomentum;
 #endif
+#if defined(SIM_WORKGROUP_REDUCE)
 shared float groupSum[SIM_WG];
+#endif
 
 // D rho_i / Dt = sum_j m (v_i - v_j) . grad W_ij + sum_b psi_b (v_i - v_b) . grad W_ib, from the list.
 float densityChange(uint i) {
@@ -107,6 +111,7 @@ void main() {
 #endif
     increment[i] = inc;
   }
+#if defined(SIM_WORKGROUP_REDUCE)
   uint l = gl_LocalInvocationIndex;
   groupSum[l] = error / simFluid.x;
   for (uint s = SIM_WG / 2u; s > 0u; s >>= 1u) {
@@ -114,4 +119,7 @@ void main() {
     if (l < s) groupSum[l] += groupSum[l + s];
   }
   if (l == 0u) partial[gl_WorkGroupID.x] = groupSum[0];
+#else
+  if (i < uint(DFSPH_RESIDUAL_SLOTS)) partial[i] = error / simFluid.x;
+#endif
 }

@@ -4,6 +4,7 @@
 // (SIM_WALL_VISCOSITY), viscosity (VISCOSITY_LAPLACIAN: Mueller et al. 2003; VISCOSITY_ARTIFICIAL:
 // Monaghan), gravity. Reduces max |v|^2 and |a|^2 for the CFL step.
 #include "sph_params.glsl"
+#include "sph_group_max.glsl"
 #include "sph_neighbors.glsl"
 layout(local_size_x = SIM_WG) in;
 layout(std430, binding = SPHFX_SSBO_SIM_POS) readonly buffer SimPos { vec4 pos[]; };
@@ -23,7 +24,6 @@ layout(std430, binding = SPHFX_SSBO_SIM_BOUNDARY_PRESSURE) readonly buffer SimBo
 // Neighbour masks per row of cells from sim_density.comp.
 layout(std430, binding = SPHFX_SSBO_SIM_NEIGHBORS) readonly buffer SimNeighbors { uint neighbors[]; };
 #endif
-shared uint groupMaxSpeed2, groupMaxAccel2;
 
 #if defined(VISCOSITY_ARTIFICIAL)
 // Monaghan's Pi_ij * rho-free factor: nu (v_ij . x_ij) / (|x_ij|^2 + 0.01 h^2) when approaching.
@@ -102,11 +102,7 @@ vec3 boundaryTerms(vec3 xi, vec3 vi, float rhoi, float dpi, uint first, uint las
 void main() {
   uint i = sphfxGlobalIndex();
   bool live = i < simCounts.x;
-  if (gl_LocalInvocationIndex == 0u) {
-    groupMaxSpeed2 = 0u;
-    groupMaxAccel2 = 0u;
-  }
-  barrier();
+  SIM_GROUP_MAX_BEGIN();
   if (live) {
     vec3 xi = pos[i].xyz, vi = vel[i].xyz;
     vec2 dpi = densityPressure[i];
@@ -135,12 +131,10 @@ void main() {
       a += boundaryTerms(xi, vi, dpi.x, dpi.y, bStart[first], bStart[last]);
     SPH_END_FOR_EACH_CELL_RANGE
     accel[i] = vec4(a, 0.0);
-    atomicMax(groupMaxSpeed2, floatBitsToUint(dot(vi, vi)));
-    atomicMax(groupMaxAccel2, floatBitsToUint(dot(a, a)));
+    SIM_GROUP_MAX(0, stateMaxSpeed2, floatBitsToUint(dot(vi, vi)));
+    SIM_GROUP_MAX(1, stateMaxAccel2, floatBitsToUint(dot(a, a)));
   }
-  barrier();
-  if (gl_LocalInvocationIndex == 0u) {
-    atomicMax(stateMaxSpeed2, groupMaxSpeed2);
-    atomicMax(stateMaxAccel2, groupMaxAccel2);
-  }
+  SIM_GROUP_MAX_END();
+  SIM_GROUP_MAX_FLUSH(0, stateMaxSpeed2);
+  SIM_GROUP_MAX_FLUSH(1, stateMaxAccel2);
 }

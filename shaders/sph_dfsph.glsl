@@ -38,7 +38,8 @@ layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_CONTROL) buffer DfsphControl {
 // only for a source of zero mean. Its corrections cannot change the mean predicted density (the pair
 // sums cancel), and the kernel sum of a disordered packing differs from the lattice's at the same volume,
 // so the mean density of the fixed volume drifts from rest; the solve targets the mean instead. The
-// factor pass writes each work group's density sum to partial[DFSPH_GROUPS + group].
+// factor pass writes each work group's density sum to partial[DFSPH_RESIDUAL_SLOTS + group], after the
+// iterations' residual sums (DFSPHSolver::residualSlots).
 
 // Kernel gradient of every DFSPH sum (density change, factor, pressure corrections): the spiky gradient
 // of the WCSPH force, whose strong short-range repulsion keeps particles off the wall samples (poly6's

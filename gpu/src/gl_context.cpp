@@ -337,10 +337,14 @@ GLBackend parseGLBackend(const std::string& name) {
   throw InputError("--gl: expected one of auto, egl-device, egl-surfaceless, osmesa, got \"" + name + "\"");
 }
 
-bool GLInfo::softwareRenderer() const {
+bool isSoftwareRenderer(const std::string& renderer) {
   for (const char* s : {"llvmpipe", "softpipe", "swrast", "SwiftShader"})
     if (renderer.find(s) != std::string::npos) return true;
   return false;
+}
+
+bool GLInfo::softwareRenderer() const {
+  return isSoftwareRenderer(renderer);
 }
 
 std::unique_ptr<GLContext> GLContext::create(const GLContextOptions& options) {

@@ -144,6 +144,11 @@ bool DFSPHSolver::closedPeriodic(const Scene& scene, uint32_t particles) {
   return double(particles) * d * d * d >= x * y * z - layer;
 }
 
+uint32_t DFSPHSolver::residualSlots(const ShaderDefines& plainDefines, uint32_t particles) {
+  const uint32_t groups = std::max<uint32_t>(1, (particles + kSimWorkGroup - 1) / kSimWorkGroup);
+  return plainDefines.has("SIM_WORKGROUP_REDUCE") ? groups : std::max<uint32_t>(particles, 1);
+}
+
 ShaderDefines DFSPHSolver::sampleSolveDefines(const Scene& scene, ShaderDefines d) {
   return factorDefines(
       scene, solveDefines(scene.solver.dfsph, scene.solver.kernelSupport, std::move(d), false, 1, 0));
@@ -157,10 +162,12 @@ DFSPHSolver::DFSPHSolver(const Scene& scene, const DispatchGate& gate, const Sha
       particles_(particles),
       groups_(std::max<uint32_t>(1, (particles + kSimWorkGroup - 1) / kSimWorkGroup)),
       closedPeriodic_(closedPeriodic(scene, particles)),
+      residualSlots_(residualSlots(plainDefines, particles)),
       defines_(
-          closedPeriodic_
-              ? wallDefines(scene, plainDefines).set("DFSPH_CLOSED_PERIODIC").set("DFSPH_GROUPS", groups_)
-              : wallDefines(scene, plainDefines)),
+          (closedPeriodic_
+               ? wallDefines(scene, plainDefines).set("DFSPH_CLOSED_PERIODIC").set("DFSPH_GROUPS", groups_)
+               : wallDefines(scene, plainDefines))
+              .set("DFSPH_RESIDUAL_SLOTS", residualSlots_)),
       listSlots_(listSlots(scene)),
       boundaryEntry_(boundaryEntry),
       boundarySamples_(boundarySamples),
@@ -168,7 +175,7 @@ DFSPHSolver::DFSPHSolver(const Scene& scene, const DispatchGate& gate, const Sha
       particle_(size_t(std::max<uint32_t>(particles + boundarySamples, 1)) * 16),
       increment_(size_t(std::max<uint32_t>(particles + boundarySamples, 1)) * 4),
       warm_(size_t(std::max<uint32_t>(particles, 1)) * 4),
-      partial_(size_t(groups_) * (closedPeriodic_ ? 2 : 1) * 4),  // the group densities follow
+      partial_((size_t(residualSlots_) + (closedPeriodic_ ? groups_ : 0)) * 4),
       control_(sizeof(DfsphControl)),
       // One spare slot: sim_dfsph_factor.comp writes every candidate to the slot after the last neighbour.
       // Constraint walls: the samples' lists and counts follow the particles' (sph_dfsph.glsl).

@@ -114,6 +114,10 @@ class DFSPHSolver : public PressureSolver {
   /// solve then targets the mean density (DFSPH_CLOSED_PERIODIC, sph_dfsph.glsl), the only level a
   /// fixed volume can hold. Throws nothing.
   static bool closedPeriodic(const Scene& scene, uint32_t particles);
+  /// The source pass's residual sums (DFSPH_RESIDUAL_SLOTS, sim_dfsph_source.comp): one per work group
+  /// of the `particles` where `plainDefines` reduce through shared memory (SIM_WORKGROUP_REDUCE), else
+  /// one per particle. Throws nothing.
+  static uint32_t residualSlots(const ShaderDefines& plainDefines, uint32_t particles);
   /// `defines` (with wallDefines()) plus what sim_dfsph_boundary_source.comp needs, in both its variants
   /// (iteration; DFSPH_BOUNDARY_APPLY): the constant-density solve's and the factor pass's defines.
   static ShaderDefines sampleSolveDefines(const Scene& scene, ShaderDefines defines);
@@ -160,7 +164,10 @@ class DFSPHSolver : public PressureSolver {
   DfsphSettings settings_;
   double kernelSupport_;
   uint32_t particles_, groups_;
-  bool closedPeriodic_;    ///< closedPeriodic(): the partial buffer also holds the group densities
+  bool closedPeriodic_;  ///< closedPeriodic(): the partial buffer also holds the group densities
+  /// The source pass's residual sums, one per work group (SIM_WORKGROUP_REDUCE) or per particle
+  /// (DFSPH_RESIDUAL_SLOTS): the partial buffer's first entries; the group densities follow.
+  uint32_t residualSlots_;
   ShaderDefines defines_;  ///< the scene's defines with wallDefines() (and DFSPH_CLOSED_PERIODIC)
   int listSlots_;
   uint32_t boundaryEntry_, boundarySamples_;  ///< the gate's entry over the wall samples, their count

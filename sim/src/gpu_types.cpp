@@ -1,9 +1,15 @@
 #include "gpu_types.h"
-#include "sphfx/core/collider_motion.h"
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <numbers>
+#include <string>
+
+#include "sphfx/core/collider_motion.h"
+#include "sphfx/core/error.h"
+#include "sphfx/gpu/gl.h"
+#include "sphfx/gpu/gl_context.h"
 
 namespace sphfx::sim {
 
@@ -202,6 +208,17 @@ std::vector<GpuBlockLayout> simGpuLayouts() {
                        SPHFX_GPU_MEMBER(ColliderGpu, pivot, "colliders[0].pivot"),
                        SPHFX_GPU_MEMBER(ColliderGpu, info, "colliders[0].info")};
   return {params, state, colliders};
+}
+
+bool workgroupReduce() {
+  if (const char* forced = std::getenv("SPHFX_WORKGROUP_REDUCE")) {
+    const std::string value = forced;
+    if (value == "1") return true;
+    if (value == "0") return false;
+    throw InputError("SPHFX_WORKGROUP_REDUCE: expected 1 or 0, got \"" + value + "\"");
+  }
+  const auto* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+  return renderer && !isSoftwareRenderer(renderer);
 }
 
 }  // namespace sphfx::sim

@@ -135,6 +135,13 @@ constexpr int kSimWorkGroup = 64;
 /// SIM_OPEN_FACES bits, SIM_KILL_BOXES count). Leaves out what the scene does not use.
 ShaderDefines simShaderDefines(const Scene& scene);
 
+/// Whether the passes reduce through work-group shared memory (SIM_WORKGROUP_REDUCE, sph_group_max.glsl
+/// and sim_dfsph_source.comp): on hardware GPUs, not on CPU rasterisers (llvmpipe), where barriers cost
+/// more than per-invocation atomics and sums. The environment variable SPHFX_WORKGROUP_REDUCE=1 or 0
+/// forces it (tests run both paths on one device). Reads the current GL context's renderer.
+/// @throws InputError if SPHFX_WORKGROUP_REDUCE is set to anything else
+bool workgroupReduce();
+
 /// Every C++-mirrored block of the simulation stage, for the layout tests.
 std::vector<GpuBlockLayout> simGpuLayouts();
 

@@ -45,6 +45,7 @@ Simulator::Simulator(const Scene& scene, const std::string& shotDir)
   capacity_ = dynamic_ ? uint32_t(maxParticleCount(scene)) : count_;
   if (capacity_ == 0) throw InputError("fluid.blocks: the blocks hold no particles at this spacing");
   defines_ = simShaderDefines(scene);
+  if (workgroupReduce()) defines_.set("SIM_WORKGROUP_REDUCE");
   gate_ = std::make_unique<DispatchGate>(capacity_);
   const GridSpec spec = GridSpec::forScene(scene);
   warnIfWallLatticeMisfits(scene);

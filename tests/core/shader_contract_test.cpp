@@ -178,8 +178,11 @@ struct ProgramSpec {
   std::string variant;  ///< where the defines come from, for messages
 };
 
-void addSimPrograms(const Scene& scene, const std::string& variant, std::vector<ProgramSpec>& out) {
-  const ShaderDefines d = sim::simShaderDefines(scene);
+// workgroupReduce: the hardware GPUs' reductions (SIM_WORKGROUP_REDUCE, sim::workgroupReduce()).
+void addSimPrograms(const Scene& scene, const std::string& variant, std::vector<ProgramSpec>& out,
+                    bool workgroupReduce = false) {
+  ShaderDefines d = sim::simShaderDefines(scene);
+  if (workgroupReduce) d.set("SIM_WORKGROUP_REDUCE");
   const auto add = [&](const std::string& file, const ShaderDefines& defines) {
     out.push_back({file, defines, variant});
   };
@@ -216,7 +219,8 @@ void addSimPrograms(const Scene& scene, const std::string& variant, std::vector<
   }
   // dfsph_solver.cpp: the factor and non-pressure passes, and the four programs of each solve (makeSolve);
   // with constraint walls the samples' passes
-  const ShaderDefines w = sim::DFSPHSolver::wallDefines(scene, d);
+  const ShaderDefines w = sim::DFSPHSolver::wallDefines(scene, d).set(
+      "DFSPH_RESIDUAL_SLOTS", sim::DFSPHSolver::residualSlots(d, 1000));
   add("sim_dfsph_factor.comp", sim::DFSPHSolver::factorDefines(scene, w));
   add("sim_dfsph_nonpressure.comp", sim::DFSPHSolver::nonPressureDefines(scene.solver.dfsph, w));
   if (scene.solver.dfsph.walls == DfsphWalls::Constraints) {
@@ -254,6 +258,8 @@ std::vector<ProgramSpec> allPrograms() {
   addSimPrograms(loadScene(dam, {"solver.wcsph.kernel=muller2003"}), "dam_break muller2003 kernel", programs);
   addSimPrograms(loadScene(dam, {"solver.method=dfsph", "solver.dfsph.walls=constraints"}),
                  "dam_break dfsph constraint walls", programs);
+  addSimPrograms(loadScene(dam), "dam_break workgroup reduce", programs, true);
+  addSimPrograms(loadScene(dam, {"solver.method=dfsph"}), "dam_break dfsph workgroup reduce", programs, true);
 
   const auto add = [&](const std::string& files, const ShaderDefines& defines = {}) {
     programs.push_back({files, defines, "renderer"});

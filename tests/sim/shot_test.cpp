@@ -1,10 +1,14 @@
 // The shot level: caches through OpenVDB, determinism (two runs, byte-identical caches) and resume
-// (an interrupted run continued with --resume equals an uninterrupted run).
+// (an interrupted run continued with --resume equals an uninterrupted run); the hardware GPUs' and the
+// CPU rasterisers' reductions give the same run.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <optional>
+#include <string>
 
 #include "sim_test_util.h"
 #include "sphfx/core/manifest.h"
@@ -61,5 +65,53 @@ TEST(Shot, TwoRunsGiveIdenticalCachesAndResumeEqualsUninterrupted) {
   EXPECT_EQ(m["simulate"]["frames_written"], 6);
   EXPECT_EQ(m["simulate"]["particle_count"], frame.size());
 }
+
+// Sets an environment variable for its lifetime, restoring the previous value (or its absence).
+class ScopedEnv {
+ public:
+  ScopedEnv(const char* name, const char* value) : name_(name) {
+    if (const char* old = std::getenv(name)) old_ = old;
+    setenv(name, value, 1);
+  }
+  ~ScopedEnv() {
+    if (old_)
+      setenv(name_, old_->c_str(), 1);
+    else
+      unsetenv(name_);
+  }
+  ScopedEnv(const ScopedEnv&) = delete;
+  ScopedEnv& operator=(const ScopedEnv&) = delete;
+
+ private:
+  const char* name_;
+  std::optional<std::string> old_;
+};
+
+class ShotReductions : public test::SolverTest {};
+
+// SIM_WORKGROUP_REDUCE (hardware GPUs: shared-memory reductions per work group) against the CPU
+// rasterisers' per-invocation atomics and per-particle residuals, forced on one device: the largest
+// speed, acceleration and density do not depend on the order they are taken in, so the steps, and
+// with them the caches, are the same bytes. DFSPH's residual averages are sums in another order; they
+// decide when a solve stops, so the same caches also say that every decision came out the same.
+TEST_P(ShotReductions, BothReductionsGiveTheSameCaches) {
+  const Scene scene =
+      loadScene(std::string(SPHFX_SOURCE_DIR) + "/scenes/dam_break.json",
+                {"fluid.spacing=0.025", "time.end_frame=4", "cache.attributes=[\"density\",\"pressure\"]",
+                 "solver.method=" + GetParam()});
+  std::string shots[2];
+  for (int reduce : {0, 1}) {
+    const ScopedEnv env("SPHFX_WORKGROUP_REDUCE", reduce ? "1" : "0");
+    shots[reduce] = test::simulateTestShot("reduce" + std::to_string(reduce) + GetParam(), scene);
+  }
+  const ManifestJson a = readManifest(shots[0]), b = readManifest(shots[1]);
+  for (int f = 1; f <= 4; ++f) {
+    expectSameCache(particleCachePath(shots[0], f), particleCachePath(shots[1], f));
+    EXPECT_EQ(a["simulate"]["per_frame"][size_t(f - 1)]["substeps"],
+              b["simulate"]["per_frame"][size_t(f - 1)]["substeps"]);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Solvers, ShotReductions, ::testing::Values("wcsph", "dfsph"), test::solverParamName);
 
 }  // namespace

@@ -40,6 +40,9 @@ struct GLInfo {
   bool softwareRenderer() const;  ///< llvmpipe / softpipe / swrast
 };
 
+/// Whether a GL_RENDERER string names a CPU rasteriser (llvmpipe, softpipe, swrast, SwiftShader).
+bool isSoftwareRenderer(const std::string& renderer);
+
 struct GLContextOptions {
   GLBackend backend = GLBackend::Auto;
   /// Enables KHR_debug messages and a glGetError check after every dispatch and draw (slow).
