@@ -144,9 +144,16 @@ bool DFSPHSolver::closedPeriodic(const Scene& scene, uint32_t particles) {
   return double(particles) * d * d * d >= x * y * z - layer;
 }
 
+namespace {
+// Work groups of the per-particle passes over `particles` (at least one).
+uint32_t particleGroups(uint32_t particles) {
+  return std::max<uint32_t>(1, (particles + kSimWorkGroup - 1) / kSimWorkGroup);
+}
+}  // namespace
+
 uint32_t DFSPHSolver::residualSlots(const ShaderDefines& plainDefines, uint32_t particles) {
-  const uint32_t groups = std::max<uint32_t>(1, (particles + kSimWorkGroup - 1) / kSimWorkGroup);
-  return plainDefines.has("SIM_WORKGROUP_REDUCE") ? groups : std::max<uint32_t>(particles, 1);
+  return plainDefines.has("SIM_WORKGROUP_REDUCE") ? particleGroups(particles)
+                                                  : std::max<uint32_t>(particles, 1);
 }
 
 ShaderDefines DFSPHSolver::sampleSolveDefines(const Scene& scene, ShaderDefines d) {
@@ -160,7 +167,7 @@ DFSPHSolver::DFSPHSolver(const Scene& scene, const DispatchGate& gate, const Sha
       settings_(scene.solver.dfsph),
       kernelSupport_(scene.solver.kernelSupport),
       particles_(particles),
-      groups_(std::max<uint32_t>(1, (particles + kSimWorkGroup - 1) / kSimWorkGroup)),
+      groups_(particleGroups(particles)),
       closedPeriodic_(closedPeriodic(scene, particles)),
       residualSlots_(residualSlots(plainDefines, particles)),
       defines_(
