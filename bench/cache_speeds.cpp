@@ -5,7 +5,8 @@
 // on health.max_density_ratio compresses (docs/validation.md, "Known limits"). With --near-walls the number
 // of particles within 0.1 and 0.25 spacings of the domain's walls (the shot's manifest.json gives the domain;
 // a resting first layer sits at 0.5 spacings): how deep the fluid is pressed into the walls
-// (docs/design.md, "Boundaries"), and the five closest particles with their wall. With --layers, for a
+// (docs/design.md, "Boundaries"), and the five closest particles with their wall (and with a cached
+// `density` their density: a thin sheet pressed into a wall sums well below rest). With --layers, for a
 // fluid at rest that fills the domain's floor: the particles sorted by height in layers of A / s^2 (A the
 // floor's area), each layer's mean height, and the gaps between them in spacings: how much of a resting
 // column's surface drift is the bottom layer's, the bulk's compression and the top layer's, and with a
@@ -46,11 +47,15 @@ std::vector<size_t> largest(size_t n, size_t count, Key key) {
   return order;
 }
 
-void printParticle(const char* label, float value, const sphfx::ParticleFrame& f, size_t i) {
+// With `density`, also the particle's cached density where the cache stores it.
+void printParticle(const char* label, float value, const sphfx::ParticleFrame& f, size_t i,
+                   bool density = false) {
   const auto& p = f.position[i];
   const auto& v = f.velocity[i];
-  std::printf("  %s %7.2f  x (%7.4f %7.4f %7.4f)  v (%6.2f %6.2f %6.2f)\n", label, value, p[0], p[1], p[2],
+  std::printf("  %s %7.2f  x (%7.4f %7.4f %7.4f)  v (%6.2f %6.2f %6.2f)", label, value, p[0], p[1], p[2],
               v[0], v[1], v[2]);
+  if (density && f.density.size() == f.size()) std::printf("  rho %.1f", double(f.density[i]));
+  std::printf("\n");
 }
 
 // The shot's domain, from the scene its manifest records (sphfx simulate writes it).
@@ -98,7 +103,7 @@ void reportNearWalls(const sphfx::Domain& w, const sphfx::ParticleFrame& f) {
   for (size_t i : closest) {
     const auto [wall, d] = nearestWall(w, f.position[i], f.particleSpacing);
     std::printf("  %s", names[wall]);
-    printParticle("spacings", float(d), f, i);
+    printParticle("spacings", float(d), f, i, true);
   }
 }
 

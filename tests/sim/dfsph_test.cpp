@@ -551,15 +551,22 @@ TEST_F(DFSPH, MomentumSolvesTheSameSystemInFewerIterations) {
 // Dam break (a = 0.2, n^2 = 2) at frame-sized steps: dt reaches 0.014 s or more (the CFL limit of the
 // still column), the run stays healthy, and the surge front follows Martin & Moyce within the WCSPH
 // test's tolerance (physics_test.cpp: mean |Z - Z_ref| < 0.35, front = largest x + half a spacing). At the
-// default CFL factor 0.4 and at 0.8, the one docs/performance.md uses for the 100k comparison. Without
-// the depth cap (solver.dfsph.depth_step_factor: 3.3 ms here), which a resting column needs and a
-// surge does not.
-class DFSPHAtCfl : public DFSPH, public ::testing::WithParamInterface<double> {};
+// default CFL factor 0.4, at 0.8 (docs/performance.md's 100k comparison), and at the surge settings of
+// docs/simulation.md (CFL 1.0 with the density solve warm-started from 0.8 of the last step's total).
+// Without the depth cap (solver.dfsph.depth_step_factor: 3.3 ms here), which a resting column needs and
+// a surge does not.
+struct LargeStep {
+  double cfl;
+  double densityWarmShare;
+};
+class DFSPHAtCfl : public DFSPH, public ::testing::WithParamInterface<LargeStep> {};
 
 TEST_P(DFSPHAtCfl, DamBreakAtLargeTimeStepMatchesMartinMoyce) {
-  const Scene s = scene("dam_break.json",
-                        {"fluid.spacing=0.02", "time.fps=60", "time.end_frame=22", "time.dt_max=0.02",
-                         fmt::format("time.cfl_factor={}", GetParam()), "solver.dfsph.depth_step_factor=0"});
+  const Scene s =
+      scene("dam_break.json", {"fluid.spacing=0.02", "time.fps=60", "time.end_frame=22", "time.dt_max=0.02",
+                               fmt::format("time.cfl_factor={}", GetParam().cfl),
+                               fmt::format("solver.dfsph.density_warm_share={}", GetParam().densityWarmShare),
+                               "solver.dfsph.depth_step_factor=0"});
   const study::Table ref =
       study::MartinMoyce::load(std::string(SPHFX_SOURCE_DIR) + "/studies/reference").front;
   Simulator sim(s);
@@ -588,12 +595,15 @@ TEST_P(DFSPHAtCfl, DamBreakAtLargeTimeStepMatchesMartinMoyce) {
     ++n;
   }
   ASSERT_GE(n, 8);
-  std::printf("DFSPH dam break, cfl %.1f: dt max %.4f s, front mean |dZ| %.3f over %d points\n", GetParam(),
-              dtMax, sum / n, n);
+  std::printf(
+      "DFSPH dam break, cfl %.1f, density warm share %.1f: dt max %.4f s, front mean |dZ| %.3f over %d "
+      "points\n",
+      GetParam().cfl, GetParam().densityWarmShare, dtMax, sum / n, n);
   EXPECT_LT(sum / n, 0.35);
 }
 
-INSTANTIATE_TEST_SUITE_P(CflFactors, DFSPHAtCfl, ::testing::Values(0.4, 0.8));
+INSTANTIATE_TEST_SUITE_P(CflFactors, DFSPHAtCfl,
+                         ::testing::Values(LargeStep{0.4, 0}, LargeStep{0.8, 0}, LargeStep{1.0, 0.8}));
 
 // Same scene twice: byte-identical caches (deterministic reductions, no float atomics). Then a run
 // resumed from a restart file continues bit-identically (the warm start travels in the state).
