@@ -551,8 +551,8 @@ TEST_F(DFSPH, MomentumSolvesTheSameSystemInFewerIterations) {
 // Dam break (a = 0.2, n^2 = 2) at frame-sized steps: dt reaches 0.014 s or more (the CFL limit of the
 // still column), the run stays healthy, and the surge front follows Martin & Moyce within the WCSPH
 // test's tolerance (physics_test.cpp: mean |Z - Z_ref| < 0.35, front = largest x + half a spacing). At the
-// default CFL factor 0.4, at 0.8 (docs/performance.md's 100k comparison), and at the surge settings of
-// docs/simulation.md (CFL 1.0 with the density solve warm-started from 0.8 of the last step's total).
+// default CFL factor 0.4, at 0.8 (docs/performance.md's 100k comparison), and at the CFL factor and warm
+// start of docs/simulation.md's surge settings (1.0, the density solve started from 0.8 of the last total).
 // Without the depth cap (solver.dfsph.depth_step_factor: 3.3 ms here), which a resting column needs and
 // a surge does not.
 struct LargeStep {
