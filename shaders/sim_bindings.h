@@ -22,9 +22,10 @@
 #define SPHFX_SSBO_SIM_DISPATCH 15 /* indirect dispatch arguments, then their live values */
 #define SPHFX_SSBO_SIM_NEIGHBORS 16 /* WCSPH: neighbours found by sim_density, used by sim_force */
 #define SPHFX_SSBO_SIM_BOUNDARY_PRESSURE 17 /* WCSPH: float p_b / rho_b^2 per sorted boundary sample */
+#define SPHFX_SSBO_SIM_BOUNDARY_WALL_SHARE 18 /* WCSPH without colliders: float sum psi W over the samples */
 #define SPHFX_SSBO_SIM_COLLIDER_FIELD 28 /* float: the mesh/vdb colliders' signed distances, one after another */
 
-/* DFSPH passes (sim_dfsph_*.comp; 16 and 17 are free there: no DFSPH program uses the WCSPH buffers) */
+/* DFSPH passes (sim_dfsph_*.comp; 16-18 are free there: no DFSPH program uses the WCSPH buffers) */
 #define SPHFX_SSBO_SIM_DFSPH_PARTICLE 16  /* vec4 per sorted particle: factor, neighbours, stiffness totals */
 #define SPHFX_SSBO_SIM_DFSPH_INCREMENT 17 /* float per sorted particle: an iteration's stiffness increment */
 #define SPHFX_SSBO_SIM_DFSPH_WARM 18      /* float per particle id: last divergence stiffness (warm start) */

@@ -6,6 +6,8 @@
 #include "boundary_akinci2012.h"
 #include "gpu_types.h"
 #include "sim_shaders.h"
+#include "sphfx/gpu/gl.h"
+#include "sphfx/gpu/gl_context.h"
 
 namespace sphfx::sim {
 
@@ -20,11 +22,27 @@ WCSPHSolver::WCSPHSolver(const Scene& scene, const DispatchGate& gate, const Sha
                          uint32_t boundaryEntry, uint32_t boundarySamples)
     : gate_(&gate),
       boundaryEntry_(boundaryEntry),
+      boundarySamples_(boundarySamples),
       density_(ShaderProgram::compute(simShaderTable(), "sim_density.comp", withNeighborList(defines))),
       boundaryPressure_(ShaderProgram::compute(simShaderTable(), "sim_boundary_pressure.comp", defines)),
       force_(ShaderProgram::compute(simShaderTable(), "sim_force.comp", withNeighborList(defines))),
       neighbors_(std::max<size_t>(maxParticleCount(scene), 1) * 18 * 4),
-      boundaryPressures_(std::max<size_t>(boundarySamples, 1) * 4) {}
+      boundaryPressures_(std::max<size_t>(boundarySamples, 1) * 4) {
+  if (!scene.colliders.empty()) return;
+  wallShare_ = ShaderProgram::compute(simShaderTable(), "sim_boundary_pressure.comp",
+                                      ShaderDefines(defines).set("BOUNDARY_WALL_SHARE"));
+  wallShares_ = GpuBuffer(std::max<size_t>(boundarySamples, 1) * 4);
+}
+
+void WCSPHSolver::sumWallShares() const {
+  // Not gated: the samples' order is fixed once the simulator has sorted them (before any substep).
+  wallShares_.bindStorage(SPHFX_SSBO_SIM_BOUNDARY_WALL_SHARE);
+  wallShare_->use();
+  glDispatchCompute((boundarySamples_ + kSimWorkGroup - 1) / kSimWorkGroup, 1, 1);
+  glCheck("sim_boundary_pressure.comp (BOUNDARY_WALL_SHARE)");
+  storageBarrier();
+  wallSharesSummed_ = true;
+}
 
 void WCSPHSolver::computeDensity(PassTimer& timer) const {
   timer.begin("density");
@@ -37,6 +55,8 @@ void WCSPHSolver::computeDensity(PassTimer& timer) const {
 void WCSPHSolver::computeAccelerations(PassTimer& timer) const {
   computeDensity(timer);
   timer.begin("boundary_pressure");
+  if (wallShare_ && !wallSharesSummed_) sumWallShares();
+  if (wallShare_) wallShares_.bindStorage(SPHFX_SSBO_SIM_BOUNDARY_WALL_SHARE);
   boundaryPressures_.bindStorage(SPHFX_SSBO_SIM_BOUNDARY_PRESSURE);
   boundaryPressure_.use();
   gate_->dispatch(boundaryEntry_, "sim_boundary_pressure.comp");

@@ -5,6 +5,7 @@
 /// viscosity and gravity accelerations. A DFSPH solver (issue 7) implements the same interface and
 /// reuses the grid, boundaries, integration, time stepping and caches.
 
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -54,11 +55,16 @@ class WCSPHSolver : public PressureSolver {
   void computeDensity(PassTimer& timer) const override;
 
  private:
+  void sumWallShares() const;
+
   const DispatchGate* gate_;
-  uint32_t boundaryEntry_;
+  uint32_t boundaryEntry_, boundarySamples_;
   ShaderProgram density_, boundaryPressure_, force_;
+  std::optional<ShaderProgram> wallShare_;  ///< static samples only (no colliders)
   GpuBuffer neighbors_;          ///< per particle and row of cells: which candidates are within h (18 words)
   GpuBuffer boundaryPressures_;  ///< p_b / rho_b^2 per sorted boundary sample
+  GpuBuffer wallShares_;         ///< static samples: sum psi W over the samples, per sorted sample
+  mutable bool wallSharesSummed_ = false;
 };
 
 }  // namespace sphfx::sim

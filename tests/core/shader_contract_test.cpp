@@ -79,6 +79,7 @@ const std::map<std::string, Constant>& blockBindings() {
       {"SimDispatch", SPHFX_CONSTANT(SPHFX_SSBO_SIM_DISPATCH)},
       {"SimNeighbors", SPHFX_CONSTANT(SPHFX_SSBO_SIM_NEIGHBORS)},
       {"SimBoundaryPressure", SPHFX_CONSTANT(SPHFX_SSBO_SIM_BOUNDARY_PRESSURE)},
+      {"SimBoundaryWallShare", SPHFX_CONSTANT(SPHFX_SSBO_SIM_BOUNDARY_WALL_SHARE)},
       {"DfsphParticle", SPHFX_CONSTANT(SPHFX_SSBO_SIM_DFSPH_PARTICLE)},
       {"DfsphIncrement", SPHFX_CONSTANT(SPHFX_SSBO_SIM_DFSPH_INCREMENT)},
       {"DfsphWarm", SPHFX_CONSTANT(SPHFX_SSBO_SIM_DFSPH_WARM)},
@@ -214,6 +215,8 @@ void addSimPrograms(const Scene& scene, const std::string& variant, std::vector<
     masks.set("SIM_NEIGHBOR_MASKS");
     add("sim_density.comp", masks);
     add("sim_boundary_pressure.comp", d);
+    if (scene.colliders.empty())
+      add("sim_boundary_pressure.comp", ShaderDefines(d).set("BOUNDARY_WALL_SHARE"));
     add("sim_force.comp", masks);
     return;
   }

@@ -158,6 +158,35 @@ TEST(Physics, WcsphWallsDoNotPumpEnergyIntoATankAtRest) {
   EXPECT_GE(gap, 0.1 * s) << "only the last-resort clamp (0.05 s) held a particle";
 }
 
+TEST(Physics, WcsphWallPressureFromSharesSummedOnceMatchesSummingEverySubstep) {
+  auto ctx = test::makeContext();
+  // Without colliders the wall samples' share of each other's density is summed once per run
+  // (sim_boundary_pressure.comp); a collider makes every substep sum it again. A resting collider in the
+  // top corner, which the surge does not reach in 0.2 s, leaves the wall samples by the fluid as they
+  // are, so the two runs must agree; a stale or misplaced share would move the fluid along the walls.
+  const std::vector<std::string> base = {"fluid.spacing=0.02", "time.end_frame=7"};
+  std::vector<std::string> withCollider = base;
+  withCollider.push_back(R"(colliders=[{"shape":"box","min":[0.9,0.5,0],"max":[1.0,0.6,0.1]}])");
+  const std::string path = std::string(SPHFX_SOURCE_DIR) + "/scenes/dam_break.json";
+  const auto run = [&](const std::vector<std::string>& set) {
+    const Scene scene = loadScene(path, set);
+    sim::Simulator sim(scene);
+    while (sim.frame() < scene.time.endFrame) sim.advance();
+    return sim.cacheFrame();
+  };
+  const ParticleFrame once = run(base), every = run(withCollider);
+  ASSERT_EQ(once.size(), every.size());
+  double largest = 0, front = 0;
+  for (size_t i = 0; i < once.size(); ++i) {
+    front = std::max(front, double(once.position[i][0]));
+    for (int a = 0; a < 3; ++a)
+      largest = std::max(largest, double(std::fabs(once.position[i][a] - every.position[i][a])));
+  }
+  std::printf("front at x = %.3f m; largest position difference %.3e m\n", front, largest);
+  EXPECT_GT(front, 0.4) << "the surge has not run along the floor: the walls were hardly tested";
+  EXPECT_LE(largest, 1e-4 * 0.02);
+}
+
 TEST(Physics, DfsphConstraintWallsDoNoWorkInAClosedTank) {
   auto ctx = test::makeContext();
   // DFSPH with solver.dfsph.walls "constraints": each wall sample's stiffness pushes the fluid along the
