@@ -5,7 +5,10 @@
 // work on motion that keeps the constraints (as the WCSPH walls' own pressure, sim_boundary_pressure.comp).
 // Writes dfsph[N + b]: x the inverse Jacobi diagonal (0: no fluid near), y S_b - T_b, z the warm start
 // (the density solve's warm share of the last total), w T_b; and the sample's list of fluid neighbours
-// with its count (sph_dfsph.glsl, dfsphSampleSlot), which the solve's iterations read.
+// with its count (sph_dfsph.glsl, dfsphSampleSlot), which the solve's iterations read. A sample with
+// fluid near it joins the wet list (sph_dfsph.glsl, DFSPH_WET_LIST), the only samples the iterations
+// visit; the others get a stiffness increment of 0 for the substep (their particles' wall entries read
+// it).
 // Without colliders, T_b is the share of a fluid filling the domain on its lattice, and the samples keep
 // their sorted order between substeps (the warm start and T_b are per sorted index).
 // DFSPH_BOUNDARY_REST_SHARE: the variant that writes T_b alone, once per solver (DFSPHSolver::
@@ -17,6 +20,9 @@
 // starts cold.
 #define DFSPH_LIST_READ
 #define DFSPH_LIST_WRITE
+#if !defined(DFSPH_BOUNDARY_REST_SHARE)
+#define DFSPH_WET_LIST
+#endif
 #include "sph_params.glsl"
 #include "sph_neighbors.glsl"
 #include "sph_dfsph.glsl"
@@ -24,6 +30,9 @@
 #include "sph_colliders.glsl"
 #endif
 layout(local_size_x = SIM_WG) in;
+#if !defined(DFSPH_BOUNDARY_REST_SHARE)
+layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_INCREMENT) writeonly buffer DfsphIncrement { float increment[]; };
+#endif
 
 // Whether a lattice site lies between the walls: a periodic axis has none (the fluid continues across
 // its seam).
@@ -114,6 +123,13 @@ void main() {
   if (listed > uint(DFSPH_MAX_NEIGHBORS)) atomicOr(stateFailure, SIM_FAIL_NEIGHBORS);
   dfCount[simCounts.x + b] = min(listed, uint(DFSPH_MAX_NEIGHBORS));
   bool nearFluid = squares > 1e-20;
+  if (nearFluid) {
+    uint k = atomicAdd(dfWetCount, 1u);
+    dfWet[k] = b;
+    atomicMax(dfWetArgs[0], k / uint(SIM_WG) + 1u);
+  } else {
+    increment[at] = 0.0;
+  }
 #if defined(HAS_COLLIDERS)
   float rest = nearFluid ? psi * restShareAmongColliders(xb.xyz) : 0.0;
   dfsph[at] = vec4(nearFluid ? 1.0 / squares : 0.0, share - rest, 0.0, rest);

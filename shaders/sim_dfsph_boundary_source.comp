@@ -1,11 +1,13 @@
-// DFSPH boundary constraints, one constant-density iteration (sim_dfsph_boundary_factor.comp):
+// DFSPH boundary constraints, one constant-density iteration (sim_dfsph_boundary_factor.comp), over the
+// wall samples with fluid near them (the wet list, sph_dfsph.glsl):
 // default: the predicted share S_b + dt D S_b / Dt - T_b of each wall sample and its projected Jacobi
 //   increment (stiffness total >= 0), read by sim_dfsph_apply.comp at N + b. Runs beside
-//   sim_dfsph_source.comp (both read the same velocities), directly dispatched: a closed solve
+//   sim_dfsph_source.comp (both read the same velocities), dispatched over the list: a closed solve
 //   (dfOpen 0) skips it. The rate sums over the sample's list (sph_dfsph.glsl);
 // DFSPH_BOUNDARY_APPLY: adds the increment to the sample's total, while the solve is open (the
 //   iteration that closes it applies nothing).
 #define DFSPH_LIST_READ
+#define DFSPH_WET_LIST
 #include "sph_params.glsl"
 #include "sph_neighbors.glsl"
 #include "sph_dfsph.glsl"
@@ -13,9 +15,9 @@ layout(local_size_x = SIM_WG) in;
 layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_INCREMENT) buffer DfsphIncrement { float increment[]; };
 
 void main() {
-  uint b = sphfxGlobalIndex();
-  if (b >= simCounts.y || dfOpen == 0u) return;
-  uint at = simCounts.x + b;
+  uint w = sphfxGlobalIndex();
+  if (w >= dfWetCount || dfOpen == 0u) return;
+  uint b = dfWet[w], at = simCounts.x + b;
 #if defined(DFSPH_BOUNDARY_APPLY)
   dfsph[at].z += increment[at];
 #else

@@ -156,3 +156,16 @@ vec4 dfsphSampleEntry(uint b, uint k) { return texelFetch(dfNbrTex, int(dfsphSam
 uint dfsphSampleCount(uint b) { return texelFetch(dfCountTex, int(simCounts.x + b)).x; }
 #endif
 #endif
+
+#if defined(DFSPH_WET_LIST)
+// The wall samples with fluid near them this substep (a non-zero Jacobi diagonal), appended by
+// sim_dfsph_boundary_factor.comp in whatever order its invocations reach them; the constant-density
+// iterations' sample passes (sim_dfsph_boundary_source.comp) run over these alone, dispatched through
+// dfWetArgs. A sample's update reads only its own data, so the order changes no result. C++ resets the
+// header before the factor pass (DFSPHSolver::computeDensity).
+layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_WET) buffer DfsphWet {
+  uint dfWetArgs[3];  // indirect dispatch: work groups over the list, 1, 1
+  uint dfWetCount;
+  uint dfWet[];  // sorted sample indices
+};
+#endif

@@ -195,6 +195,7 @@ DFSPHSolver::DFSPHSolver(const Scene& scene, const DispatchGate& gate, const Sha
       nonPressure_(ShaderProgram::compute(simShaderTable(), "sim_dfsph_nonpressure.comp",
                                           nonPressureDefines(settings_, defines_))) {
   if (boundaryConstraints_) {
+    wet_ = GpuBuffer((4 + size_t(std::max<uint32_t>(boundarySamples, 1))) * 4);
     const ShaderDefines factor = factorDefines(scene, defines_);
     boundaryFactor_ = ShaderProgram::compute(simShaderTable(), "sim_dfsph_boundary_factor.comp", factor);
     restSharePending_ = scene.colliders.empty();  // with colliders the factor pass computes them
@@ -311,6 +312,7 @@ void DFSPHSolver::bind() const {
   boundary_.bindTexture(SPHFX_TEX_SIM_DFSPH_BOUNDARY, GL_RGBA32F);
   boundary_.bindStorage(SPHFX_SSBO_SIM_DFSPH_BOUNDARY);
   count_.bindStorage(SPHFX_SSBO_SIM_DFSPH_COUNT);
+  if (boundaryConstraints_) wet_.bindStorage(SPHFX_SSBO_SIM_DFSPH_WET);
 }
 
 void DFSPHSolver::dispatch(const ShaderProgram& p, uint32_t entry, const char* label) const {
@@ -321,11 +323,22 @@ void DFSPHSolver::dispatch(const ShaderProgram& p, uint32_t entry, const char* l
   storageBarrier();
 }
 
-// A direct dispatch over the wall samples: the shader reads the solve's open flag itself. (The gate's
-// entry over the samples is closed in a frame's last substep, whose constant-density solve still runs.)
+// A direct dispatch over every wall sample (not through the gate's entry over the samples, which may be
+// closed in this substep).
 void DFSPHSolver::dispatchOverSamples(const ShaderProgram& p, const char* label) const {
   p.use();
   glDispatchCompute((boundarySamples_ + kSimWorkGroup - 1) / kSimWorkGroup, 1, 1);
+  glCheck(label);
+  storageBarrier();
+}
+
+// An indirect dispatch over the wet list that sim_dfsph_boundary_factor.comp built this substep (not
+// through the gate: its entry over the samples is closed in a frame's last substep, whose
+// constant-density solve still runs); the shader reads the solve's open flag itself.
+void DFSPHSolver::dispatchOverWetSamples(const ShaderProgram& p, const char* label) const {
+  p.use();
+  glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, wet_.id());
+  glDispatchComputeIndirect(0);
   glCheck(label);
   storageBarrier();
 }
@@ -348,9 +361,14 @@ void DFSPHSolver::computeDensity(PassTimer& timer) const {
     if (restSharePending_)
       dispatchOverSamples(boundaryRestShare_, "sim_dfsph_boundary_factor.comp (rest share)");
     restSharePending_ = false;
+    // An empty wet list: no work groups (x), 1, 1, count 0.
+    const uint32_t zero = 0, one = 1;
+    glClearNamedBufferSubData(wet_.id(), GL_R32UI, 0, 16, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+    glClearNamedBufferSubData(wet_.id(), GL_R32UI, 4, 8, GL_RED_INTEGER, GL_UNSIGNED_INT, &one);
     boundaryFactor_.use();
     gate_->dispatch(boundaryEntry_, "sim_dfsph_boundary_factor.comp");
     storageBarrier();
+    glMemoryBarrier(GL_COMMAND_BARRIER_BIT);  // the wet list's dispatch arguments
   }
 }
 
@@ -378,12 +396,12 @@ void DFSPHSolver::run(const Solve& s, const char* label, PassTimer& timer) const
     for (int k = 0; k < kCheckEvery && it <= settings_.maxIterations; ++k, ++it) {
       dispatch(s.source, kSourceEntry, "sim_dfsph_source.comp");
       const bool wallConstraints = boundaryConstraints_ && !s.applyWarmStart;  // the density solve's
-      if (wallConstraints) dispatchOverSamples(boundarySource_, "sim_dfsph_boundary_source.comp");
+      if (wallConstraints) dispatchOverWetSamples(boundarySource_, "sim_dfsph_boundary_source.comp");
       if (it == 0) glProgramUniform1f(s.source.id(), momentum, float(settings_.jacobiMomentum));
       dispatch(s.reduce, kReduceEntry, "sim_dfsph_reduce.comp");
       glMemoryBarrier(GL_COMMAND_BARRIER_BIT);
       dispatch(s.apply, kApplyEntry, "sim_dfsph_apply.comp");
-      if (wallConstraints) dispatchOverSamples(boundaryApply_, "sim_dfsph_boundary_source.comp (apply)");
+      if (wallConstraints) dispatchOverWetSamples(boundaryApply_, "sim_dfsph_boundary_source.comp (apply)");
     }
     if (!open()) break;
   }

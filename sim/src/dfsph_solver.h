@@ -156,6 +156,7 @@ class DFSPHSolver : public PressureSolver {
   void checkListFitsTextureView() const;
   void dispatch(const ShaderProgram& p, uint32_t entry, const char* label) const;
   void dispatchOverSamples(const ShaderProgram& p, const char* label) const;
+  void dispatchOverWetSamples(const ShaderProgram& p, const char* label) const;
   bool open() const;
 
   const DispatchGate* gate_;
@@ -174,6 +175,8 @@ class DFSPHSolver : public PressureSolver {
   bool boundaryConstraints_;                  ///< solver.dfsph.walls "constraints"
   /// particle_ and increment_ hold the wall samples' entries after the particles' (N + b).
   GpuBuffer particle_, increment_, warm_, partial_, control_, neighbors_, boundary_, count_;
+  /// Constraint walls: the samples with fluid near them this substep (sph_dfsph.glsl, DFSPH_WET_LIST).
+  GpuBuffer wet_;
   ShaderProgram factor_, nonPressure_;
   /// Constraint walls only: the samples' step start, iteration and apply passes, and the pass that
   /// computes their resting shares once, in the solver's first substep (restSharePending_; scenes with

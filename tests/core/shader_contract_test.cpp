@@ -82,6 +82,7 @@ const std::map<std::string, Constant>& blockBindings() {
       {"SimBoundaryWallShare", SPHFX_CONSTANT(SPHFX_SSBO_SIM_BOUNDARY_WALL_SHARE)},
       {"DfsphParticle", SPHFX_CONSTANT(SPHFX_SSBO_SIM_DFSPH_PARTICLE)},
       {"DfsphIncrement", SPHFX_CONSTANT(SPHFX_SSBO_SIM_DFSPH_INCREMENT)},
+      {"DfsphWet", SPHFX_CONSTANT(SPHFX_SSBO_SIM_DFSPH_WET)},
       {"DfsphWarm", SPHFX_CONSTANT(SPHFX_SSBO_SIM_DFSPH_WARM)},
       {"DfsphPartial", SPHFX_CONSTANT(SPHFX_SSBO_SIM_DFSPH_PARTIAL)},
       {"DfsphControl", SPHFX_CONSTANT(SPHFX_SSBO_SIM_DFSPH_CONTROL)},
