@@ -64,6 +64,7 @@ void addStabilityCommand(CLI::App& app) {
   cmd->add_option("--solvers", *solvers, "Override the suite's solvers (e.g. --solvers wcsph)")
       ->delimiter(',');
   cmd->add_flag("--keep-shots", *keep, "Keep every run's particle caches");
+  auto sets = addSetOption(cmd);
   auto gl = addGLOptions(cmd);
   cmd->callback([=] {
     // Runs are subprocesses of this very executable, so the suite measures the build it is part of.
@@ -71,6 +72,7 @@ void addStabilityCommand(CLI::App& app) {
         file->empty() ? dataDirectory() + "/studies/stability.json" : resolveShippedFile(*file);
     study::StabilitySuite suite = study::loadStabilitySuite(suiteFile);
     if (!solvers->empty()) suite.solvers = *solvers;
+    suite.overrides = *sets;  // after each case's own overrides, in every run
     const auto report = study::runStabilitySuite(suite, *quick, *out, {executablePath(), glArgs(*gl), *keep});
     std::printf(
         "%zu runs: %zu failed, %zu stopped although they must stay stable, %zu missed a physical "

@@ -1,7 +1,17 @@
-# Runs `sphfx scene SCENE` and checks: exit code 2, and stderr contains the text in EXPECTED.
-execute_process(COMMAND "${EXE}" scene "${SCENE}" RESULT_VARIABLE code OUTPUT_VARIABLE out ERROR_VARIABLE err)
-file(READ "${EXPECTED}" expected)
-string(STRIP "${expected}" expected)
+# Runs `sphfx scene SCENE` (or `sphfx ARGS...`, ARGS a ;-list) and checks: exit code 2, and stderr
+# contains the text in the file EXPECTED (or the text EXPECTED_TEXT).
+if(DEFINED ARGS)
+  set(command ${ARGS})
+else()
+  set(command scene "${SCENE}")
+endif()
+execute_process(COMMAND "${EXE}" ${command} RESULT_VARIABLE code OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(DEFINED EXPECTED_TEXT)
+  set(expected "${EXPECTED_TEXT}")
+else()
+  file(READ "${EXPECTED}" expected)
+  string(STRIP "${expected}" expected)
+endif()
 if(NOT code EQUAL 2)
   message(FATAL_ERROR "expected exit code 2, got ${code}\nstderr: ${err}")
 endif()

@@ -191,11 +191,13 @@ void writeStabilityOutputs(const StabilitySuite& suite, bool quick, const Stabil
   std::string md = fmt::format(
       "# Stability suite: {}{}\n\n{} runs; failed: {}; stopped although the case must "
       "stay stable: {}; completed but missed a physical criterion: {}; known misses (open work, "
-      "listed in the suite): {}, of which met this time: {}.\n\n{}\n\n"
-      "| case | solver | particles | status | criteria | wall s | note |\n|---|---|---|---|---|---|---|\n",
+      "listed in the suite): {}, of which met this time: {}.\n\n{}\n\n",
       suite.name, quick ? " (quick set)" : "", report.runs.size(), report.failed, report.unexpected,
       report.violations, report.knownMisses, report.nowMet,
       inputsDigestLine(stabilityInputsDigest(suite, quick)));
+  if (!suite.overrides.empty())
+    md += fmt::format("Every run with `--set {}`.\n\n", fmt::join(suite.overrides, "`, `--set "));
+  md += "| case | solver | particles | status | criteria | wall s | note |\n|---|---|---|---|---|---|---|\n";
   for (const auto& r : report.runs)
     if (r.fixedDt == 0)
       md +=
@@ -260,12 +262,13 @@ Scene resolveStabilityScene(const StabilitySuite& suite, const StabilityCase& c,
   const std::string base = (fs::path(suite.directory) / c.scene).string();
   Json raw = schema::readJsonFile(base, "scene");
   for (const auto& o : c.set) applyOverride(raw, o);
+  for (const auto& o : suite.overrides) applyOverride(raw, o);
   applyOverride(raw, "solver.method=" + solver);
   if (dt > 0) {
     applyOverride(raw, "time.dt_mode=fixed");
     applyOverride(raw, fmt::format("time.dt={}", dt));
   }
-  return parseScene(raw, base + " (stability case " + c.name + ")");
+  return parseScene(raw, base + " (stability case " + c.name + ", " + solver + ")");
 }
 
 namespace {
@@ -297,6 +300,8 @@ std::string stabilityInputsDigest(const StabilitySuite& suite, bool quick) {
 StabilityReport runStabilitySuite(const StabilitySuite& suite, bool quick, const std::string& outDir,
                                   const StudyOptions& options) {
   const auto plan = stabilityPlan(suite, quick);
+  // Every run's scene first, so that a bad override stops the suite before its first run, not hours in.
+  for (const auto& [c, solver, dt] : plan) resolveStabilityScene(suite, *c, solver, dt);
   StabilityReport report;
   Progress progress("stability", int64_t(plan.size()));
   std::map<std::pair<std::string, std::string>, bool> sweepDone;

@@ -37,6 +37,9 @@ struct StabilitySuite {
   Json dtSweep;  ///< array of fixed time steps to try, increasing
   std::vector<StabilityCase> cases;
   std::string directory;
+  /// Overrides for every run, after each case's own (`sphfx stability --set`): the suite's cases under
+  /// another setting. The solver and a sweep's fixed dt still come last.
+  std::vector<std::string> overrides;
 };
 
 /// @throws InputError naming the file and JSON path.
@@ -65,8 +68,9 @@ struct StabilityReport {
   size_t nowMet = 0;       ///< known misses that this run met (the list can shrink)
 };
 
-/// The scene of one run: the case's scene with its overrides, the solver, and a fixed `dt` if > 0.
-/// @throws InputError as loadScene.
+/// The scene of one run: the case's scene with its overrides, the suite's, the solver, and a fixed `dt`
+/// if > 0.
+/// @throws InputError as loadScene, naming the case and the solver.
 Scene resolveStabilityScene(const StabilitySuite& suite, const StabilityCase& c, const std::string& solver,
                             double dt);
 
@@ -74,6 +78,7 @@ Scene resolveStabilityScene(const StabilitySuite& suite, const StabilityCase& c,
 std::string stabilityInputsDigest(const StabilitySuite& suite, bool quick);
 
 /// Runs the suite (the quick subset if `quick`) into `outDir` and writes stability.csv and stability.md.
+/// @throws InputError before the first run if any run's scene does not resolve (resolveStabilityScene).
 StabilityReport runStabilitySuite(const StabilitySuite& suite, bool quick, const std::string& outDir,
                                   const StudyOptions& options);
 
