@@ -35,9 +35,11 @@ void addStudyCommand(CLI::App& app) {
   cmd->add_option("-o,--output", *out, "Output folder (results.csv, error_vs_time.png, report.md)")
       ->required();
   cmd->add_flag("--keep-shots", *keep, "Keep every run's particle caches");
+  auto sets = addSetOption(cmd);
   auto gl = addGLOptions(cmd);
   cmd->callback([=] {
-    const study::StudySpec spec = study::loadStudy(*file);
+    study::StudySpec spec = study::loadStudy(*file);
+    spec.overrides = *sets;  // after each case's own overrides, before its grid point
     const auto results = study::runStudy(spec, *out, {executablePath(), glArgs(*gl), *keep});
     size_t failed = 0;
     for (const auto& r : results) failed += r.outcome.status == study::RunStatus::Failed ? 1 : 0;

@@ -1,6 +1,7 @@
 #include "report.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <cmath>
@@ -246,6 +247,8 @@ void writeStudyReport(const StudySpec& spec, const std::vector<RunResult>& resul
       "independent references (see docs/validation.md); wall seconds are the simulator's "
       "own figure for the whole run (context, compile, simulation, cache writing).\n\n{}\n\n",
       spec.name, results.size(), inputsDigestLine(studyInputsDigest(spec)));
+  if (!spec.overrides.empty())
+    md += fmt::format("Every run with `--set {}`.\n\n", fmt::join(spec.overrides, "`, `--set "));
   if (plotted) md += "![error against wall time](error_vs_time.png)\n\n";
   for (const StudyCase& c : spec.cases) {
     const auto runs = caseRuns(results, c.name);

@@ -78,6 +78,14 @@ Scene resolveRunScene(const StudySpec& spec, const StudyCase& c, const GridPoint
   const std::string base = (fs::path(spec.directory) / c.scene).string();
   Json raw = schema::readJsonFile(base, "scene");
   for (const auto& o : c.set) applyOverride(raw, o);
+  for (const auto& o : spec.overrides) {
+    const std::string path = o.substr(0, o.find('='));
+    for (const Axis& a : c.axes)
+      if (a.path == path)
+        throw InputError(
+            fmt::format("--set {}: {} is an axis of study case {}; the study varies it", o, path, c.name));
+    applyOverride(raw, o);
+  }
   for (const auto& [path, value] : point) applyOverride(raw, path + "=" + valueText(value));
   return parseScene(raw, base + " (case " + c.name + ")");
 }
@@ -87,6 +95,9 @@ std::vector<RunResult> runStudy(const StudySpec& spec, const std::string& outDir
   std::vector<RunResult> results;
   size_t total = 0;
   for (const StudyCase& c : spec.cases) total += gridPoints(c).size();
+  // Every run's scene first, so that a bad override stops the study before its first run, not hours in.
+  for (const StudyCase& c : spec.cases)
+    for (const auto& point : gridPoints(c)) resolveRunScene(spec, c, point);
   Progress progress("study " + spec.name, int64_t(total));
   fs::create_directories(outDir);
   for (const StudyCase& c : spec.cases) {

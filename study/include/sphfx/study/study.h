@@ -44,6 +44,9 @@ struct StudySpec {
   double timeoutSeconds = 0;  ///< per run
   std::vector<StudyCase> cases;
   std::string directory;  ///< folder of the study file (scene paths are relative to it)
+  /// Overrides for every run, after each case's own and before its grid point (`sphfx study --set`): the
+  /// study under another setting. One that names an axis of a case is an error (the axis would vanish).
+  std::vector<std::string> overrides;
 };
 
 /// Reads and validates a study file. @throws InputError naming the file and JSON path.
@@ -53,7 +56,7 @@ StudySpec loadStudy(const std::string& path);
 using GridPoint = std::vector<std::pair<std::string, Json>>;
 /// Every run of a case: the Cartesian product of its axes, the first axis varying slowest.
 std::vector<GridPoint> gridPoints(const StudyCase& studyCase);
-/// The scene a run simulates: the case's scene file, its "set" overrides, then the grid point.
+/// The scene a run simulates: the case's scene file, its "set" overrides, the study's, then the grid point.
 /// @throws InputError if the file is unreadable or the resulting scene is invalid (names case and path).
 Scene resolveRunScene(const StudySpec& spec, const StudyCase& studyCase, const GridPoint& point);
 

@@ -1,0 +1,119 @@
+// Overrides for every run of the stability suite (`sphfx stability --set`) and of a study (`sphfx study
+// --set`): applied after each case's own and before the run's solver or grid point, seen by the reports'
+// digests, and a bad one is an error naming the case (and the solver) before any run.
+#include <gtest/gtest.h>
+
+#include "sphfx/core/error.h"
+#include "sphfx/study/stability.h"
+#include "sphfx/study/study.h"
+
+using namespace sphfx;
+using namespace sphfx::study;
+
+namespace {
+
+StabilitySuite shippedSuite() {
+  return loadStabilitySuite(std::string(SPHFX_SOURCE_DIR) + "/studies/stability.json");
+}
+
+const StabilityCase& caseNamed(const StabilitySuite& suite, const std::string& name) {
+  for (const auto& c : suite.cases)
+    if (c.name == name) return c;
+  throw std::runtime_error("no case " + name);
+}
+
+StudySpec quickStudy() {
+  return loadStudy(std::string(SPHFX_SOURCE_DIR) + "/studies/quick.json");
+}
+
+const StudyCase& studyCase(const StudySpec& spec, const std::string& name) {
+  for (const auto& c : spec.cases)
+    if (c.name == name) return c;
+  throw std::runtime_error("no study case " + name);
+}
+
+/// The case's grid point whose `path` axis takes `value`.
+GridPoint pointWith(const StudyCase& c, const std::string& path, const Json& value) {
+  for (const GridPoint& p : gridPoints(c))
+    for (const auto& [axis, v] : p)
+      if (axis == path && v == value) return p;
+  throw std::runtime_error("no grid point with " + path);
+}
+
+}  // namespace
+
+TEST(StabilitySuite, OverridesFollowTheCaseAndPrecedeTheSolver) {
+  StabilitySuite suite = shippedSuite();
+  const StabilityCase& stiff = caseNamed(suite, "stiff_tait_c100");  // its own set: speed of sound 200
+  EXPECT_DOUBLE_EQ(resolveStabilityScene(suite, stiff, "wcsph", 0).solver.speedOfSound, 200);
+  suite.overrides = {"solver.speed_of_sound=50", "solver.method=dfsph"};
+  const Scene scene = resolveStabilityScene(suite, stiff, "wcsph", 0);
+  EXPECT_DOUBLE_EQ(scene.solver.speedOfSound, 50) << "the suite's override after the case's";
+  EXPECT_EQ(scene.solver.method, Solver::WCSPH) << "the run's solver after the overrides";
+}
+
+TEST(StabilitySuite, TheDigestSeesAnOverride) {
+  StabilitySuite suite = shippedSuite();
+  const std::string before = stabilityInputsDigest(suite, true);
+  suite.overrides = {"fluid.rest_density=999"};
+  EXPECT_NE(stabilityInputsDigest(suite, true), before);
+}
+
+TEST(StabilitySuite, ASolverParameterReachesThatSolversRuns) {
+  StabilitySuite suite = shippedSuite();
+  suite.overrides = {"solver.dfsph.jacobi_momentum=0.7"};
+  const StabilityCase& first = suite.cases.front();
+  EXPECT_DOUBLE_EQ(resolveStabilityScene(suite, first, "dfsph", 0).solver.dfsph.jacobiMomentum, 0.7);
+  // The run's solver drops the other solver's group, as `sphfx simulate --set solver.method=...` does.
+  EXPECT_EQ(resolveStabilityScene(suite, first, "wcsph", 0).solver.method, Solver::WCSPH);
+}
+
+TEST(StabilitySuite, ABadOverrideNamesTheCaseAndSolver) {
+  StabilitySuite suite = shippedSuite();
+  suite.overrides = {"fluid.no_such_parameter=1"};
+  const StabilityCase& first = suite.cases.front();
+  try {
+    resolveStabilityScene(suite, first, "wcsph", 0);
+    FAIL() << "an unknown parameter resolved";
+  } catch (const std::exception& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("(stability case " + first.name + ", wcsph)"), std::string::npos) << what;
+    EXPECT_NE(what.find("/fluid/no_such_parameter"), std::string::npos) << what;
+  }
+}
+
+TEST(StudyOverrides, FollowTheCaseAndPrecedeTheGridPoint) {
+  StudySpec spec = quickStudy();
+  const StudyCase& c = studyCase(spec, "dam_break_sound_speed");  // its own set: spacing 0.01
+  const GridPoint point = gridPoints(c).front();
+  EXPECT_DOUBLE_EQ(resolveRunScene(spec, c, point).fluid.spacing, 0.01);
+  spec.overrides = {"fluid.spacing=0.02"};
+  EXPECT_DOUBLE_EQ(resolveRunScene(spec, c, point).fluid.spacing, 0.02) << "the study's after the case's";
+  spec.overrides = {"solver.dfsph.jacobi_momentum=0.7"};
+  const StudyCase& dam = studyCase(spec, "dam_break");  // solver.method is an axis
+  EXPECT_DOUBLE_EQ(
+      resolveRunScene(spec, dam, pointWith(dam, "solver.method", "dfsph")).solver.dfsph.jacobiMomentum, 0.7);
+  EXPECT_EQ(resolveRunScene(spec, dam, pointWith(dam, "solver.method", "wcsph")).solver.method,
+            Solver::WCSPH);
+}
+
+TEST(StudyOverrides, AnAxisIsNotOverridden) {
+  StudySpec spec = quickStudy();
+  spec.overrides = {"fluid.spacing=0.02"};
+  const StudyCase& dam = studyCase(spec, "dam_break");  // fluid.spacing is an axis
+  try {
+    resolveRunScene(spec, dam, gridPoints(dam).front());
+    FAIL() << "an override of an axis resolved";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("fluid.spacing is an axis of study case dam_break"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(StudyOverrides, TheDigestSeesAnOverride) {
+  StudySpec spec = quickStudy();
+  const std::string before = studyInputsDigest(spec);
+  spec.overrides = {"solver.dfsph.jacobi_momentum=0.7"};
+  EXPECT_NE(studyInputsDigest(spec), before);
+}
