@@ -35,7 +35,9 @@ void addStudyCommand(CLI::App& app) {
   cmd->add_option("-o,--output", *out, "Output folder (results.csv, error_vs_time.png, report.md)")
       ->required();
   cmd->add_flag("--keep-shots", *keep, "Keep every run's particle caches");
-  auto sets = addSetOption(cmd);
+  auto sets = addSetOption(cmd,
+                           "Override a scene parameter in every run, after the case's own and before "
+                           "its grid point (an axis is an error)");
   auto gl = addGLOptions(cmd);
   cmd->callback([=] {
     study::StudySpec spec = study::loadStudy(*file);
@@ -66,7 +68,7 @@ void addStabilityCommand(CLI::App& app) {
   cmd->add_option("--solvers", *solvers, "Override the suite's solvers (e.g. --solvers wcsph)")
       ->delimiter(',');
   cmd->add_flag("--keep-shots", *keep, "Keep every run's particle caches");
-  auto sets = addSetOption(cmd);
+  auto sets = addSetOption(cmd, "Override a scene parameter in every run, after the case's own");
   auto gl = addGLOptions(cmd);
   cmd->callback([=] {
     // Runs are subprocesses of this very executable, so the suite measures the build it is part of.

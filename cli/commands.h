@@ -15,8 +15,9 @@ std::shared_ptr<GLContextOptions> addGLOptions(CLI::App* cmd);
 /// Option transform for input files (scenes, studies, suites): a relative path that does not exist here
 /// is looked up in the shipped data folder (sphfx::resolveInputFile).
 std::string resolveShippedFile(std::string path);
-/// Adds repeatable --set path=value to `cmd`.
-std::shared_ptr<std::vector<std::string>> addSetOption(CLI::App* cmd);
+/// Adds repeatable --set path=value to `cmd`, its help text starting with `what`.
+std::shared_ptr<std::vector<std::string>> addSetOption(
+    CLI::App* cmd, const std::string& what = "Override a scene parameter");
 /// loadScene, then the colliders' geometry files read and checked (checkColliderGeometry), errors
 /// prefixed with the scene file: bad geometry fails before a shot starts. Returns the triangle counts.
 Scene loadSceneAndGeometry(const std::string& file, const std::vector<std::string>& sets,

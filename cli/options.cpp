@@ -24,10 +24,9 @@ std::string resolveShippedFile(std::string path) {
   return resolveInputFile(path);
 }
 
-std::shared_ptr<std::vector<std::string>> addSetOption(CLI::App* cmd) {
+std::shared_ptr<std::vector<std::string>> addSetOption(CLI::App* cmd, const std::string& what) {
   auto sets = std::make_shared<std::vector<std::string>>();
-  cmd->add_option("--set", *sets,
-                  "Override a scene parameter, e.g. --set fluid.artificial_viscosity=0.04 (repeatable)")
+  cmd->add_option("--set", *sets, what + ", e.g. --set fluid.artificial_viscosity=0.04 (repeatable)")
       ->type_name("PATH=VALUE")
       ->take_all()
       ->allow_extra_args(false);

@@ -16,20 +16,16 @@ StabilitySuite shippedSuite() {
   return loadStabilitySuite(std::string(SPHFX_SOURCE_DIR) + "/studies/stability.json");
 }
 
-const StabilityCase& caseNamed(const StabilitySuite& suite, const std::string& name) {
-  for (const auto& c : suite.cases)
+/// The case called `name` of a suite's or study's cases.
+template <class Case>
+const Case& caseNamed(const std::vector<Case>& cases, const std::string& name) {
+  for (const Case& c : cases)
     if (c.name == name) return c;
   throw std::runtime_error("no case " + name);
 }
 
 StudySpec quickStudy() {
   return loadStudy(std::string(SPHFX_SOURCE_DIR) + "/studies/quick.json");
-}
-
-const StudyCase& studyCase(const StudySpec& spec, const std::string& name) {
-  for (const auto& c : spec.cases)
-    if (c.name == name) return c;
-  throw std::runtime_error("no study case " + name);
 }
 
 /// The case's grid point whose `path` axis takes `value`.
@@ -44,7 +40,7 @@ GridPoint pointWith(const StudyCase& c, const std::string& path, const Json& val
 
 TEST(StabilitySuite, OverridesFollowTheCaseAndPrecedeTheSolver) {
   StabilitySuite suite = shippedSuite();
-  const StabilityCase& stiff = caseNamed(suite, "stiff_tait_c100");  // its own set: speed of sound 200
+  const StabilityCase& stiff = caseNamed(suite.cases, "stiff_tait_c100");  // its own set: speed of sound 200
   EXPECT_DOUBLE_EQ(resolveStabilityScene(suite, stiff, "wcsph", 0).solver.speedOfSound, 200);
   suite.overrides = {"solver.speed_of_sound=50", "solver.method=dfsph"};
   const Scene scene = resolveStabilityScene(suite, stiff, "wcsph", 0);
@@ -84,13 +80,13 @@ TEST(StabilitySuite, ABadOverrideNamesTheCaseAndSolver) {
 
 TEST(StudyOverrides, FollowTheCaseAndPrecedeTheGridPoint) {
   StudySpec spec = quickStudy();
-  const StudyCase& c = studyCase(spec, "dam_break_sound_speed");  // its own set: spacing 0.01
+  const StudyCase& c = caseNamed(spec.cases, "dam_break_sound_speed");  // its own set: spacing 0.01
   const GridPoint point = gridPoints(c).front();
   EXPECT_DOUBLE_EQ(resolveRunScene(spec, c, point).fluid.spacing, 0.01);
   spec.overrides = {"fluid.spacing=0.02"};
   EXPECT_DOUBLE_EQ(resolveRunScene(spec, c, point).fluid.spacing, 0.02) << "the study's after the case's";
   spec.overrides = {"solver.dfsph.jacobi_momentum=0.7"};
-  const StudyCase& dam = studyCase(spec, "dam_break");  // solver.method is an axis
+  const StudyCase& dam = caseNamed(spec.cases, "dam_break");  // solver.method is an axis
   EXPECT_DOUBLE_EQ(
       resolveRunScene(spec, dam, pointWith(dam, "solver.method", "dfsph")).solver.dfsph.jacobiMomentum, 0.7);
   EXPECT_EQ(resolveRunScene(spec, dam, pointWith(dam, "solver.method", "wcsph")).solver.method,
@@ -100,7 +96,7 @@ TEST(StudyOverrides, FollowTheCaseAndPrecedeTheGridPoint) {
 TEST(StudyOverrides, AnAxisIsNotOverridden) {
   StudySpec spec = quickStudy();
   spec.overrides = {"fluid.spacing=0.02"};
-  const StudyCase& dam = studyCase(spec, "dam_break");  // fluid.spacing is an axis
+  const StudyCase& dam = caseNamed(spec.cases, "dam_break");  // fluid.spacing is an axis
   try {
     resolveRunScene(spec, dam, gridPoints(dam).front());
     FAIL() << "an override of an axis resolved";
