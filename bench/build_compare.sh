@@ -6,7 +6,9 @@
 #
 #   sh bench/build_compare.sh BUILD_A BUILD_B [OUT_DIR] [ROUNDS] [-- sphfx simulate options]
 #
-# Each BUILD holds cli/sphfx and bench/dam_front. Prints one line per run, then the median ratios B / A.
+# Each BUILD holds cli/sphfx and bench/dam_front. OPTS_A and OPTS_B (environment) add options to one
+# build's runs only, so that one build with and without a setting compares the same way.
+# Prints one line per run, then the median ratios B / A.
 set -eu
 a=$1
 b=$2
@@ -38,8 +40,10 @@ run() {
 round=1
 while [ "$round" -le "$rounds" ]; do
   for scene in scenes/dam_break.json scenes/showcase.json; do
-    run "$a" A "$scene" "$round" "$@"
-    run "$b" B "$scene" "$round" "$@"
+    # shellcheck disable=SC2086 # OPTS_A and OPTS_B are lists of options
+    run "$a" A "$scene" "$round" "$@" ${OPTS_A:-}
+    # shellcheck disable=SC2086
+    run "$b" B "$scene" "$round" "$@" ${OPTS_B:-}
   done
   round=$((round + 1))
 done

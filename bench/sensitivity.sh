@@ -6,7 +6,8 @@
 # The parameters: Monaghan's alpha, the speed of sound (WCSPH's EOS; both solvers' viscosity), the
 # walls' drag (fluid.wall_viscosity_factor, which multiplies fluid.wall_viscosity_speed; left out when
 # the common options set it), the time step's factors (time.cfl_factor; WCSPH's force factor, DFSPH's
-# fall factor and depth cap), and DFSPH's density tolerance.
+# fall factor and depth cap), DFSPH's density tolerance, and the surface particles' wall contact
+# (fluid.wall_contact: halved, and doubled up to its largest value, 1).
 #
 #   sh bench/sensitivity.sh [BUILD_DIR] [OUT_DIR] ["--set KEY=VALUE ..." applied to every run] [SOLVERS]
 #
@@ -49,6 +50,8 @@ case " $solvers " in *" wcsph "*)
     run wcsph_wallvisc_0.5 --set fluid.wall_viscosity_factor=0.5
     run wcsph_wallvisc_2 --set fluid.wall_viscosity_factor=2
   fi
+  run wcsph_contact_0.3 --set fluid.wall_contact=0.3
+  run wcsph_contact_1 --set fluid.wall_contact=1
   ;;
 esac
 case " $solvers " in *" dfsph "*)
@@ -69,6 +72,8 @@ case " $solvers " in *" dfsph "*)
     run dfsph_wallvisc_0.5 --set solver.method=dfsph --set fluid.wall_viscosity_factor=0.5
     run dfsph_wallvisc_2 --set solver.method=dfsph --set fluid.wall_viscosity_factor=2
   fi
+  run dfsph_contact_0.3 --set solver.method=dfsph --set fluid.wall_contact=0.3
+  run dfsph_contact_1 --set solver.method=dfsph --set fluid.wall_contact=1
   ;;
 esac
 python3 - "$out" <<'PY'

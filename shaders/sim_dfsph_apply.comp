@@ -58,7 +58,18 @@ void main() {
 #else
   float total = f.z + ki;
   dfsph[i].z = total;
-  vel[i] = vec4(v.xyz + stateDt * dv, total);
+  vec3 next = v.xyz + stateDt * dv;
+#if defined(SIM_WALL_CONTACT)
+  // fluid.wall_contact (sph_kernels.glsl): in every iteration, so that the next one's residual sees it.
+  vec4 b = dfsphBoundary(i);
+#if defined(HAS_COLLIDERS)
+  float rate = b.w;  // sum_b psi_b v_b . grad W_ib
+#else
+  float rate = 0.0;  // walls at rest (w may hold the walls' Laplacian sum)
+#endif
+  next = sphWallContact(next, b.xyz, dfsphWallContactExcess(i), rate, stateDt);
+#endif
+  vel[i] = vec4(next, total);
   // The cache's pressure (p / rho^2): both solves support the fluid, the divergence solve by a velocity
   // impulse K per step, i.e. the pressure acceleration K / dt.
   densityPressure[i].y = DFSPH_PRESSURE_SCALE * (total + f.w / stateDt);

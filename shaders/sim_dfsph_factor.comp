@@ -88,6 +88,10 @@ void main() {
     dfCount[i] = min(listed, uint(DFSPH_MAX_NEIGHBORS));
 #endif
     dfBoundary[i] = vec4(wallGrad, boundaryW);
+#if defined(SIM_WALL_CONTACT)
+    bool sparse = float(listed) + boundaryNeighbours < SIM_WALL_CONTACT;
+    dfBoundary[n + i] = vec4(sparse ? wall - SIM_WALL_CONTACT_REST : -1e30, 0.0, 0.0, 0.0);
+#endif
     float rho = m * fluid + wall;
     vec3 g = gradSum + wallGrad;
     // The diagonal of each solve: what its own increment does to its residual. With the walls pushing

@@ -35,6 +35,12 @@ float artificialViscosity(vec3 vij, vec3 xij, float r2, float rhoSum) {
 }
 #endif
 
+#if defined(SIM_WALL_CONTACT)
+// This invocation's neighbours within h (fluid and samples), for the wall contact: the neighbour masks'
+// bit counts, and fluidTerms() and boundaryTerms() for the distance-tested ranges.
+float contactNeighbours = 0.0;
+#endif
+
 // Fluid neighbour j (within h, not i) of particle i: acceleration / particle mass.
 vec3 fluidTerm(uint j, vec3 xi, vec3 vi, float rhoi, float dpi) {
   vec3 a = vec3(0.0);
@@ -61,6 +67,9 @@ vec3 fluidTerms(uint i, vec3 xi, vec3 vi, float rhoi, float dpi, uint first, uin
     vec3 d = sphDelta(xi, pos[j].xyz);
     if (dot(d, d) >= simKernel.w || j == i) continue;
     a += fluidTerm(j, xi, vi, rhoi, dpi);
+#if defined(SIM_WALL_CONTACT)
+    contactNeighbours += 1.0;
+#endif
   }
   return a * simGravity.w;
 }
@@ -95,9 +104,37 @@ vec3 boundaryTerms(vec3 xi, vec3 vi, float rhoi, float dpi, uint first, uint las
     vec3 d = sphDelta(xi, bpos[j].xyz);
     if (dot(d, d) >= simKernel.w) continue;
     a += boundaryTerm(j, xi, vi, rhoi, dpi);
+#if defined(SIM_WALL_CONTACT)
+    contactNeighbours += 1.0;
+#endif
   }
   return a;
 }
+
+#if defined(SIM_WALL_CONTACT)
+// The contact's velocity for a particle with few neighbours (sphWallContact(), sph_kernels.glsl): the
+// sums over the samples within h, psi W, psi grad W and psi v_b . grad W, in a loop of their own, since
+// only such particles (spray, sheets, drops) need them.
+vec3 wallContactVelocity(vec3 xi, vec3 v, float dt) {
+  float sum = 0.0, rate = 0.0;
+  vec3 grad = vec3(0.0);
+  SPH_FOR_EACH_CELL_RANGE(xi, row, seam, first, last)
+    for (uint j = bStart[first]; j < bStart[last]; ++j) {
+      vec4 b = bpos[j];
+      vec3 d = sphDelta(xi, b.xyz);
+      float r2 = dot(d, d);
+      if (r2 >= simKernel.w) continue;
+      vec3 g = sphGradW(d, sqrt(r2));
+      sum += b.w * sphW(r2);
+      grad += b.w * g;
+#if defined(HAS_COLLIDERS)
+      rate += b.w * dot(bvel[j].xyz, g);
+#endif
+    }
+  SPH_END_FOR_EACH_CELL_RANGE
+  return sphWallContact(v, grad, sum - SIM_WALL_CONTACT_REST, rate, dt);
+}
+#endif
 
 void main() {
   uint i = sphfxGlobalIndex();
@@ -117,10 +154,14 @@ void main() {
       if (!seam) {
         uint f0 = cellStart[first], fe = cellStart[last], b0 = bStart[first], be = bStart[last];
         vec3 af = vec3(0.0);
-        for (uint m = neighbors[row * n + i]; m != 0u; m &= m - 1u)
+        uint fluidMask = neighbors[row * n + i], wallMask = neighbors[(9u + row) * n + i];
+#if defined(SIM_WALL_CONTACT)
+        contactNeighbours += float(bitCount(fluidMask) + bitCount(wallMask));
+#endif
+        for (uint m = fluidMask; m != 0u; m &= m - 1u)
           af += fluidTerm(f0 + uint(findLSB(m)), xi, vi, dpi.x, dpi.y);
         a += af * simGravity.w;
-        for (uint m = neighbors[(9u + row) * n + i]; m != 0u; m &= m - 1u)
+        for (uint m = wallMask; m != 0u; m &= m - 1u)
           a += boundaryTerm(b0 + uint(findLSB(m)), xi, vi, dpi.x, dpi.y);
         if (fe > f0 + 32u) a += fluidTerms(i, xi, vi, dpi.x, dpi.y, f0 + 32u, fe);
         if (be > b0 + 32u) a += boundaryTerms(xi, vi, dpi.x, dpi.y, b0 + 32u, be);
@@ -130,6 +171,14 @@ void main() {
       a += fluidTerms(i, xi, vi, dpi.x, dpi.y, cellStart[first], cellStart[last]);
       a += boundaryTerms(xi, vi, dpi.x, dpi.y, bStart[first], bStart[last]);
     SPH_END_FOR_EACH_CELL_RANGE
+#if defined(SIM_WALL_CONTACT)
+    // The step's dt is set after this pass (sim_timestep.comp) from its reductions: the contact takes the
+    // last step's, which the CFL rule changes little from step to step; it is checked again every step.
+    if (contactNeighbours < SIM_WALL_CONTACT && stateDt > 0.0) {
+      vec3 v = vi + stateDt * a;
+      a += (wallContactVelocity(xi, v, stateDt) - v) / stateDt;
+    }
+#endif
     accel[i] = vec4(a, 0.0);
     SIM_GROUP_MAX(0, stateMaxSpeed2, floatBitsToUint(dot(vi, vi)));
     SIM_GROUP_MAX(1, stateMaxAccel2, floatBitsToUint(dot(a, a)));

@@ -102,6 +102,9 @@ float dfsphWallScale(vec3 xb) {
 //   dfBoundary[i]: xyz = sum_b psi_b grad W(x_i - x_b), w = sum_b psi_b v_b . grad W(x_i - x_b)
 //     (boundary samples do not move during a substep, so their sums are constant in the solves);
 //     with DFSPH_WALL_LAPLACIAN_SUM instead w = sum_b psi_b lap W(x_i - x_b) (see below)
+//   dfBoundary[N + i] (fluid.wall_contact, SIM_WALL_CONTACT): x = the walls' kernel sum over i less
+//     SIM_WALL_CONTACT_REST where i has fewer than SIM_WALL_CONTACT neighbours, else -1e30 (the contact,
+//     sphWallContact() in sph_kernels.glsl, never acts)
 // Walls at rest (no colliders) and Laplacian viscosity: the walls' viscous term is
 // nu / rho_i sum_b psi_b lap W_ib (0 - v_i) = -(nu / rho_i) v_i sum_b psi_b lap W_ib, so the factor pass
 // sums psi_b lap W_ib in its boundary loop (in dfBoundary.w, where the walls' velocity term is 0) and the
@@ -133,6 +136,9 @@ vec4 dfsphBoundaryEntry(uint i, uint k) {
 }
 #endif
 vec4 dfsphBoundary(uint i) { return texelFetch(dfBoundaryTex, int(i)); }
+#if defined(SIM_WALL_CONTACT)
+float dfsphWallContactExcess(uint i) { return texelFetch(dfBoundaryTex, int(simCounts.x + i)).x; }
+#endif
 #endif
 #if defined(DFSPH_LIST_WRITE)
 layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_NEIGHBORS) writeonly buffer DfsphNeighbors { vec4 dfNbr[]; };

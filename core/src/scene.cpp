@@ -165,10 +165,19 @@ std::shared_ptr<const Object<Fluid>> fluidSchema() {
                 "speed times wall_viscosity_factor where the fluid's uses artificial_viscosity times the "
                 "speed of sound. The walls' drag sets how fast a surge runs along the floor; apart from "
                 "alpha and c, which stabilise the bulk, it stays put when those are tuned: halving or "
-                "doubling either moves the dam-break front by at most 2.47 % (docs/validation.md, "
+                "doubling either moves the dam-break front by at most 1.92 % (docs/validation.md, "
                 "Sensitivity). The default is their defaults' product, 0.02 x 30 m/s.")
         .onlyWhen([](const Fluid& f) { return f.viscosityModel == ViscosityModel::Artificial; },
                   "artificial model")
+        .number("wall_contact", &Fluid::wallContact, 0.6, "", Range::closed(0, 1),
+                "Keeps spray and thin sheets off the walls and colliders: a particle with fewer neighbours "
+                "(fluid and samples within h) than this share of a full lattice neighbourhood, where the "
+                "density no longer holds it off, may not come nearer once the walls' kernel sum over it "
+                "passes that of a resting particle half a spacing from a flat wall; the step takes away "
+                "the part of its velocity that would take it nearer (never adding energy). The bulk, "
+                "which has full neighbourhoods, never meets it: a resting tank runs bit for bit as "
+                "without it. 0 leaves it out (particles then reach the walls' last-resort clamp at 0.05 "
+                "spacings, docs/validation.md).")
         .list("blocks", &Fluid::blocks, fluidBlockSchema(), 0, kUnbounded,
               "Blocks of fluid at the first frame (boxes or spheres, must not overlap); may be empty when "
               "the scene has emitters.");

@@ -22,16 +22,6 @@ constexpr uint32_t kSourceEntry = 0, kReduceEntry = 1, kApplyEntry = 2;
 static_assert(offsetof(DfsphControl, lastError) == 48 && offsetof(DfsphControl, args) == 60 &&
               sizeof(DfsphControl) == 144);
 
-// Neighbours within q spacings of a particle in a full cubic lattice (self excluded).
-int latticeNeighbours(double q) {
-  const int n = int(std::ceil(q));
-  int count = 0;
-  for (int x = -n; x <= n; ++x)
-    for (int y = -n; y <= n; ++y)
-      for (int z = -n; z <= n; ++z) count += (x * x + y * y + z * z) < q * q ? 1 : 0;
-  return count - 1;
-}
-
 // Kernel sums over a cubic lattice, in units of the spacing, around the site at the origin with the
 // shaders' kernels at support `support` (spiky W = -spikyGradient / 3 (h - r)^3), split by class: how
 // many of the planes x, y, z < 0 (the first `walls` of them, the walls next to the site (0.5, 0.5, 0.5))
@@ -62,6 +52,19 @@ ShaderDefines withDensitySolveShares(const DfsphSettings& s, ShaderDefines d) {
   d.set("DFSPH_DENSITY_WARM_SHARE", float(s.densityWarmShare));
   d.set("DFSPH_DENSITY_WALL_PUSH", s.walls == DfsphWalls::Constraints ? 1.0f : float(s.densityWallPush));
   return d;
+}
+
+// The walls' kernel sum over a resting particle half a spacing from a flat wall (fluid.wall_contact),
+// as the factor pass sums it: psi_b times the face samples' weight times the spiky W.
+double wallContactRest(const Scene& scene) {
+  const double h = scene.kernelRadius(), spiky = -kernelFactors(h).spikyGradient / 3;
+  const double face = scene.solver.dfsph.densityKernel == DfsphDensityKernel::Spiky
+                          ? DFSPHSolver::spikyDensityMassScale(scene.solver.kernelSupport)
+                          : DFSPHSolver::spikyWallScales(scene.solver.kernelSupport)[0];
+  return face * restWallSum(scene, [&](double r2) {
+           const double r = std::sqrt(r2);
+           return r < h ? spiky * std::pow(h - r, 3) : 0.0;
+         });
 }
 
 // A particle with fewer than solver.dfsph.free_surface_fraction of a full neighbourhood is at the free
@@ -171,10 +174,13 @@ DFSPHSolver::DFSPHSolver(const Scene& scene, const DispatchGate& gate, const Sha
       closedPeriodic_(closedPeriodic(scene, particles)),
       residualSlots_(residualSlots(plainDefines, particles)),
       defines_(
-          (closedPeriodic_
-               ? wallDefines(scene, plainDefines).set("DFSPH_CLOSED_PERIODIC").set("DFSPH_GROUPS", groups_)
-               : wallDefines(scene, plainDefines))
+          withWallContact(
+              scene, wallContactRest(scene),
+              closedPeriodic_
+                  ? wallDefines(scene, plainDefines).set("DFSPH_CLOSED_PERIODIC").set("DFSPH_GROUPS", groups_)
+                  : wallDefines(scene, plainDefines))
               .set("DFSPH_RESIDUAL_SLOTS", residualSlots_)),
+      wallContact_(scene.fluid.wallContact > 0),
       listSlots_(listSlots(scene)),
       boundaryEntry_(boundaryEntry),
       boundarySamples_(boundarySamples),
@@ -188,7 +194,8 @@ DFSPHSolver::DFSPHSolver(const Scene& scene, const DispatchGate& gate, const Sha
       // Constraint walls: the samples' lists and counts follow the particles' (sph_dfsph.glsl).
       neighbors_(size_t(std::max<uint32_t>(particles + listedSamples(scene, boundarySamples), 1)) * 16 *
                  size_t(listSlots_ + 1)),
-      boundary_(size_t(std::max<uint32_t>(particles, 1)) * 16),
+      // fluid.wall_contact: a second vec4 per particle after the first N (sph_dfsph.glsl).
+      boundary_(size_t(std::max<uint32_t>(particles, 1)) * 16 * (wallContact_ ? 2 : 1)),
       count_(size_t(std::max<uint32_t>(particles + listedSamples(scene, boundarySamples), 1)) * 4),
       factor_(
           ShaderProgram::compute(simShaderTable(), "sim_dfsph_factor.comp", factorDefines(scene, defines_))),

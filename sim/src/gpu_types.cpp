@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <functional>
 #include <numbers>
 #include <string>
 
@@ -35,6 +36,35 @@ double densityKernel(const Scene& scene, double r2) {
     return wendlandFactors(h).density * std::pow(1 - q, 4) * (1 + 4 * q);
   }
   return kernelFactors(h).poly6 * std::pow(h * h - r2, 3);
+}
+
+int latticeNeighbours(double q) {
+  const int n = int(std::ceil(q));
+  int count = 0;
+  for (int x = -n; x <= n; ++x)
+    for (int y = -n; y <= n; ++y)
+      for (int z = -n; z <= n; ++z) count += (x * x + y * y + z * z) < q * q ? 1 : 0;
+  return count - 1;
+}
+
+double restWallSum(const Scene& scene, const std::function<double(double)>& kernel) {
+  // The site at the origin, the wall's face half a spacing below it: the samples sit at x = -1 .. -layers
+  // spacings (the same layers as sampleBoundaries()), every y and z within reach.
+  const double s = scene.fluid.spacing, h = scene.kernelRadius();
+  const int n = int(std::ceil(h / s)), layers = std::max(1, int(std::ceil(h / s - 1e-9)));
+  double sum = 0;
+  for (int x = -layers; x <= -1; ++x)
+    for (int y = -n; y <= n; ++y)
+      for (int z = -n; z <= n; ++z) sum += kernel(s * s * double(x * x + y * y + z * z));
+  return calibratedParticleMass(scene) * sum;
+}
+
+ShaderDefines withWallContact(const Scene& scene, double restSum, ShaderDefines defines) {
+  const double share = scene.fluid.wallContact;
+  if (share <= 0) return defines;
+  defines.set("SIM_WALL_CONTACT", float(share * latticeNeighbours(scene.solver.kernelSupport)));
+  defines.set("SIM_WALL_CONTACT_REST", float(restSum));
+  return defines;
 }
 
 double calibratedParticleMass(const Scene& scene) {

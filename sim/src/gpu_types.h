@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "sphfx/core/scene.h"
@@ -95,6 +96,19 @@ bool usesWendland(const Scene& scene);
 
 /// The density kernel of the scene's solver at squared distance r2 (0 beyond h).
 double densityKernel(const Scene& scene, double r2);
+
+/// Neighbours within q spacings of a particle in a full cubic lattice, itself left out: 26 at q = 2.
+int latticeNeighbours(double q);
+
+/// The walls' kernel sum sum_b psi_b K(|x - x_b|^2) (kg/m^3) at a particle's site half a spacing from a
+/// flat wall: the wall samples continue the fluid's lattice boundary-layers deep, each of the calibrated
+/// particle mass (boundary_akinci2012.h). `kernel` takes the squared distance (m^2) and is 0 beyond h.
+double restWallSum(const Scene& scene, const std::function<double(double)>& kernel);
+
+/// `defines` plus fluid.wall_contact's, where it is above 0 (sph_kernels.glsl, sphWallContact()):
+/// SIM_WALL_CONTACT, the neighbour count (fluid and samples within h) below which it acts, and
+/// SIM_WALL_CONTACT_REST, `restSum`: restWallSum() with the solver's wall kernel and weights.
+ShaderDefines withWallContact(const Scene& scene, double restSum, ShaderDefines defines);
 
 /// Particle mass that puts the initial cubic lattice exactly at rest density with the scene's density kernel:
 /// rho0 / sum_j W(x_j) over the lattice. (The nominal rho0 spacing^3 is a few percent off at h = 2

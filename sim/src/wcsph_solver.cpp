@@ -25,7 +25,10 @@ WCSPHSolver::WCSPHSolver(const Scene& scene, const DispatchGate& gate, const Sha
       boundarySamples_(boundarySamples),
       density_(ShaderProgram::compute(simShaderTable(), "sim_density.comp", withNeighborList(defines))),
       boundaryPressure_(ShaderProgram::compute(simShaderTable(), "sim_boundary_pressure.comp", defines)),
-      force_(ShaderProgram::compute(simShaderTable(), "sim_force.comp", withNeighborList(defines))),
+      force_(ShaderProgram::compute(
+          simShaderTable(), "sim_force.comp",
+          withNeighborList(withWallContact(
+              scene, restWallSum(scene, [&](double r2) { return densityKernel(scene, r2); }), defines)))),
       neighbors_(std::max<size_t>(maxParticleCount(scene), 1) * 18 * 4),
       boundaryPressures_(std::max<size_t>(boundarySamples, 1) * 4) {
   if (!scene.colliders.empty()) return;

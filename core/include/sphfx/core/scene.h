@@ -85,6 +85,7 @@ struct Fluid {
   double artificialViscosity = 0;  ///< Monaghan alpha, artificial model
   double wallViscosityFactor = 1;  ///< viscosity between fluid and walls/colliders: 1 no slip, 0 free slip
   double wallViscositySpeed = 0;   ///< artificial model: the walls' alpha c (m/s), apart from the fluid's
+  double wallContact = 0;  ///< below this share of a full neighbourhood: no approach past the resting layer
   std::vector<FluidBlock> blocks;
 };
 
