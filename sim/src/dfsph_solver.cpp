@@ -23,9 +23,8 @@ static_assert(offsetof(DfsphControl, lastError) == 48 && offsetof(DfsphControl, 
               sizeof(DfsphControl) == 144);
 
 // Kernel sums over a cubic lattice, in units of the spacing, around the site at the origin with the
-// shaders' kernels at support `support` (spiky W = -spikyGradient / 3 (h - r)^3), split by class: how
-// many of the planes x, y, z < 0 (the first `walls` of them, the walls next to the site (0.5, 0.5, 0.5))
-// a site lies beyond.
+// shaders' kernels at support `support` (poly6 and spikyKernel()), split by class: how many of the planes
+// x, y, z < 0 (the first `walls` of them, the walls next to the site (0.5, 0.5, 0.5)) a site lies beyond.
 struct LatticeSums {
   std::array<double, 4> poly6{}, spiky{};
 };
@@ -41,7 +40,7 @@ LatticeSums latticeSums(double support, int walls) {
         const size_t cls = size_t((walls > 0 && x < 0) + (walls > 1 && y < 0) + (walls > 2 && z < 0));
         const double r2 = double(x * x + y * y + z * z), r = std::sqrt(r2);
         s.poly6[cls] += r2 < h2 ? k.poly6 * std::pow(h2 - r2, 3) : 0.0;
-        s.spiky[cls] += r < h ? -k.spikyGradient / 3 * std::pow(h - r, 3) : 0.0;
+        s.spiky[cls] += spikyKernel(h, r);
       }
   return s;
 }
@@ -57,14 +56,11 @@ ShaderDefines withDensitySolveShares(const DfsphSettings& s, ShaderDefines d) {
 // The walls' kernel sum over a resting particle half a spacing from a flat wall (fluid.wall_contact),
 // as the factor pass sums it: psi_b times the face samples' weight times the spiky W.
 double wallContactRest(const Scene& scene) {
-  const double h = scene.kernelRadius(), spiky = -kernelFactors(h).spikyGradient / 3;
+  const double h = scene.kernelRadius();
   const double face = scene.solver.dfsph.densityKernel == DfsphDensityKernel::Spiky
                           ? DFSPHSolver::spikyDensityMassScale(scene.solver.kernelSupport)
                           : DFSPHSolver::spikyWallScales(scene.solver.kernelSupport)[0];
-  return face * restWallSum(scene, [&](double r2) {
-           const double r = std::sqrt(r2);
-           return r < h ? spiky * std::pow(h - r, 3) : 0.0;
-         });
+  return face * restWallSum(scene, [&](double r2) { return spikyKernel(h, std::sqrt(r2)); });
 }
 
 // A particle with fewer than solver.dfsph.free_surface_fraction of a full neighbourhood is at the free

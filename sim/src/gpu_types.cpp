@@ -38,6 +38,10 @@ double densityKernel(const Scene& scene, double r2) {
   return kernelFactors(h).poly6 * std::pow(h * h - r2, 3);
 }
 
+double spikyKernel(double h, double r) {
+  return r < h ? -kernelFactors(h).spikyGradient / 3 * std::pow(h - r, 3) : 0.0;
+}
+
 int latticeNeighbours(double q) {
   const int n = int(std::ceil(q));
   int count = 0;

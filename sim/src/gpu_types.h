@@ -97,6 +97,10 @@ bool usesWendland(const Scene& scene);
 /// The density kernel of the scene's solver at squared distance r2 (0 beyond h).
 double densityKernel(const Scene& scene, double r2);
 
+/// The spiky kernel W(r) = -spikyGradient / 3 (h - r)^3 for support h, the kernel whose gradient the
+/// shaders use (0 beyond h).
+double spikyKernel(double h, double r);
+
 /// Neighbours within q spacings of a particle in a full cubic lattice, itself left out: 26 at q = 2.
 int latticeNeighbours(double q);
 

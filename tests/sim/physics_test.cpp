@@ -428,8 +428,6 @@ TEST(Physics, DamBreakFrontFollowsMartinMoyce) {
   EXPECT_LT(worst, 0.3);
 }
 
-}  // namespace
-
 // fluid.wall_contact against a lone drop and a tank at rest, for each solver.
 class WallContact : public test::SolverTest {};
 
@@ -488,3 +486,5 @@ TEST_P(WallContact, ATankAtRestNeverMeetsIt) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Solvers, WallContact, ::testing::Values("wcsph", "dfsph"), test::solverParamName);
+
+}  // namespace
