@@ -52,11 +52,26 @@ bool insideDomain(vec3 site) {
   return x && y && z;
 }
 
-// The share of a fluid filling the domain on its lattice (sites min + (k + 1/2) s): the sites between
-// the lattice's cell around x_b and DFSPH_REST_REACH (ceil of the kernel support) cells out on each
-// side, which hold every site within the support.
+#if defined(DFSPH_REST_MIRROR_FROM)
+// On a walled axis whose extent is not a whole number of spacings the lattice from the min wall ends off
+// half a spacing from the max wall (58.5 spacings: a layer on the wall), and the max wall's samples would
+// let the fluid in. A sample past DFSPH_REST_MIRROR_FROM (per axis: the middle, or -1e30 where the min
+// face is open) takes the share of its mirror image across the domain, which sees the lattice from the
+// max wall: the fluid rests half a spacing from each wall.
+vec3 restLatticeFrame(vec3 xb) {
+  vec3 lo = simDomainMin.xyz, hi = simDomainMax.xyz;
+  return mix(xb, lo + hi - xb, step(DFSPH_REST_MIRROR_FROM, xb));
+}
+#endif
+
+// The share of a fluid filling the domain on its lattice (sites min + (k + 1/2) s, or from the max wall,
+// restLatticeFrame()): the sites between the lattice's cell around x_b and DFSPH_REST_REACH (ceil of the
+// kernel support) cells out on each side, which hold every site within the support.
 float restShare(vec3 xb) {
   const float s = DFSPH_SPACING;
+#if defined(DFSPH_REST_MIRROR_FROM)
+  xb = restLatticeFrame(xb);
+#endif
   vec3 base = floor((xb - simDomainMin.xyz) / s - 0.5);
   float sum = 0.0;
   const int reach = DFSPH_REST_REACH;

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstddef>
 #include <numbers>
+#include <optional>
 
 #include "bindings.h"
 #include "gpu_types.h"
@@ -61,6 +62,24 @@ double wallContactRest(const Scene& scene) {
                           ? DFSPHSolver::spikyDensityMassScale(scene.solver.kernelSupport)
                           : DFSPHSolver::spikyWallScales(scene.solver.kernelSupport)[0];
   return face * restWallSum(scene, [&](double r2) { return spikyKernel(h, std::sqrt(r2)); });
+}
+
+// Where the samples' rest shares take the resting lattice from the max wall rather than the min one
+// (sim_dfsph_boundary_factor.comp, restLatticeFrame()), per axis: past the middle on a walled axis whose
+// extent is not a whole number of spacings, everywhere on one whose min face alone is open, else never
+// (1e30). Empty where every axis fits.
+std::optional<std::array<double, 3>> restMirrorFrom(const Scene& scene) {
+  constexpr double kNever = 1e30;
+  std::array<double, 3> from{kNever, kNever, kNever};
+  bool any = false;
+  for (int a = 0; a < 3; ++a) {
+    const double lo = scene.domain.min[a], hi = scene.domain.max[a], n = (hi - lo) / scene.fluid.spacing;
+    if (scene.domain.isPeriodic(a) || scene.domain.isOpen(a, 1) || std::fabs(n - std::round(n)) <= 1e-6)
+      continue;
+    from[size_t(a)] = scene.domain.isOpen(a, 0) ? -kNever : 0.5 * (lo + hi);
+    any = true;
+  }
+  return any ? std::optional(from) : std::nullopt;
 }
 
 // A particle with fewer than solver.dfsph.free_surface_fraction of a full neighbourhood is at the free
@@ -130,6 +149,9 @@ ShaderDefines DFSPHSolver::wallDefines(const Scene& scene, ShaderDefines d) {
   d.set("DFSPH_REST_REACH", int(std::ceil(scene.solver.kernelSupport - 1e-9)));
   if (!scene.colliders.empty())  // recomputed every substep
     d.set("DFSPH_COLLIDERS", int(scene.colliders.size()));
+  else if (const auto from = restMirrorFrom(scene))
+    d.set("DFSPH_REST_MIRROR_FROM",
+          fmt::format("vec3({:.9g}, {:.9g}, {:.9g})", (*from)[0], (*from)[1], (*from)[2]));
   return d;
 }
 
