@@ -53,11 +53,12 @@ bool insideDomain(vec3 site) {
 }
 
 #if defined(DFSPH_REST_MIRROR_FROM)
-// On a walled axis whose extent is not a whole number of spacings the lattice from the min wall ends off
-// half a spacing from the max wall (58.5 spacings: a layer on the wall), and the max wall's samples would
-// let the fluid in. A sample past DFSPH_REST_MIRROR_FROM (per axis: the middle, or -1e30 where the min
-// face is open) takes the share of its mirror image across the domain, which sees the lattice from the
-// max wall: the fluid rests half a spacing from each wall.
+// On a walled axis whose extent is not a whole number of spacings the lattice from the min wall puts its
+// last layer elsewhere than half a spacing from the max wall (at 58.5 spacings on the wall itself, at 14.5
+// a whole spacing off), and the max wall's samples would let the fluid in or hold it off. A sample past
+// DFSPH_REST_MIRROR_FROM (per axis: the middle, or -1e30 where the min face is open) takes the share of
+// its mirror image across the domain, which sees the lattice from the max wall: the fluid rests half a
+// spacing from each wall.
 vec3 restLatticeFrame(vec3 xb) {
   vec3 lo = simDomainMin.xyz, hi = simDomainMax.xyz;
   return mix(xb, lo + hi - xb, step(DFSPH_REST_MIRROR_FROM, xb));
