@@ -273,9 +273,10 @@ TEST_F(DFSPH, WallsKeepTheRestingLatticeAtRestDensity) {
 
 // A column in the middle of a tank collapses toward both side walls z = -0.145 and 0.145 m, an extent of
 // 14.5 spacings: the constraint walls' resting lattice must start half a spacing from each wall, or the
-// max wall's samples (a lattice from the min wall puts a layer on it) let the fluid in. The flow is
-// mirror-symmetric in z, so the closest centre to each wall must agree, and both stay off the walls by
-// the stability suite's bound (0.1 s, docs/validation.md).
+// max wall's samples hold the fluid off (a lattice from the min wall ends a whole spacing from it here) or
+// let it in (at 58.5 spacings that lattice puts a layer on the wall). The flow is mirror-symmetric in z,
+// so the closest centre to each wall must agree, and both stay off the walls by the stability suite's
+// bound (0.1 s, docs/validation.md).
 TEST_F(DFSPH, FarWallOfAMisfitAxisHoldsTheFluidAsTheNearOneDoes) {
   const Scene s = scene("hydrostatic.json",
                         {"fluid.spacing=0.02", "domain.min=[0,0,-0.145]", "domain.max=[0.4,0.4,0.145]",
