@@ -56,9 +56,9 @@ bool insideDomain(vec3 site) {
 // On a walled axis whose extent is not a whole number of spacings the lattice from the min wall puts its
 // last layer elsewhere than half a spacing from the max wall (at 58.5 spacings on the wall itself, at 14.5
 // a whole spacing off), and the max wall's samples would let the fluid in or hold it off. A sample past
-// DFSPH_REST_MIRROR_FROM (per axis: the middle, or -1e30 where the min face is open) takes the share of
-// its mirror image across the domain, which sees the lattice from the max wall: the fluid rests half a
-// spacing from each wall.
+// DFSPH_REST_MIRROR_FROM (per axis: the middle, or 1e30 on an axis that fits) takes the share of its
+// mirror image across the domain, which sees the lattice from the max wall: the fluid rests half a spacing
+// from each wall.
 vec3 restLatticeFrame(vec3 xb) {
   vec3 lo = simDomainMin.xyz, hi = simDomainMax.xyz;
   return mix(xb, lo + hi - xb, step(DFSPH_REST_MIRROR_FROM, xb));
