@@ -197,7 +197,6 @@ DFSPHSolver::DFSPHSolver(const Scene& scene, const DispatchGate& gate, const Sha
                   ? wallDefines(scene, plainDefines).set("DFSPH_CLOSED_PERIODIC").set("DFSPH_GROUPS", groups_)
                   : wallDefines(scene, plainDefines))
               .set("DFSPH_RESIDUAL_SLOTS", residualSlots_)),
-      wallContact_(scene.fluid.wallContact > 0),
       listSlots_(listSlots(scene)),
       boundaryEntry_(boundaryEntry),
       boundarySamples_(boundarySamples),
@@ -212,7 +211,7 @@ DFSPHSolver::DFSPHSolver(const Scene& scene, const DispatchGate& gate, const Sha
       neighbors_(size_t(std::max<uint32_t>(particles + listedSamples(scene, boundarySamples), 1)) * 16 *
                  size_t(listSlots_ + 1)),
       // fluid.wall_contact: a second vec4 per particle after the first N (sph_dfsph.glsl).
-      boundary_(size_t(std::max<uint32_t>(particles, 1)) * 16 * (wallContact_ ? 2 : 1)),
+      boundary_(size_t(std::max<uint32_t>(particles, 1)) * 16 * (scene.fluid.wallContact > 0 ? 2 : 1)),
       count_(size_t(std::max<uint32_t>(particles + listedSamples(scene, boundarySamples), 1)) * 4),
       factor_(
           ShaderProgram::compute(simShaderTable(), "sim_dfsph_factor.comp", factorDefines(scene, defines_))),

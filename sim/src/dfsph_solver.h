@@ -170,7 +170,6 @@ class DFSPHSolver : public PressureSolver {
   /// (DFSPH_RESIDUAL_SLOTS): the partial buffer's first entries; the group densities follow.
   uint32_t residualSlots_;
   ShaderDefines defines_;  ///< the scene's, wallDefines(), DFSPH_CLOSED_PERIODIC, withWallContact()
-  bool wallContact_;       ///< fluid.wall_contact > 0: boundary_ holds a second vec4 per particle
   int listSlots_;
   uint32_t boundaryEntry_, boundarySamples_;  ///< the gate's entry over the wall samples, their count
   bool boundaryConstraints_;                  ///< solver.dfsph.walls "constraints"
