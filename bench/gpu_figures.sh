@@ -31,8 +31,7 @@ step() {
 { nproc; nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv,noheader; } >> "$log" 2>&1
 step 30 "$build/cli/sphfx" info --gl egl-device --selftest || exit 1
 step 60 "$build/bench/sim_bench" --scene scenes/dam_break.json --particles 3e4 --particles 1e5 --particles 3e5 --particles 1e6 --seconds 0.02
-step 40 "$build/bench/sim_bench" --scene scenes/dam_break_splishsplash.json --particles 0 --skip 0.28 \
-  --seconds 0.08 --fps 25
+step 40 "$build/bench/sim_bench" --scene scenes/dam_break_splishsplash.json --particles 0 --seconds 1 --fps 25
 for solver in dfsph wcsph; do
   limit=120
   [ "$solver" = wcsph ] && limit=200
