@@ -1,7 +1,8 @@
 #!/bin/sh
 # The GPU path's figures (docs/performance.md, docs/validation.md) on a GPU render node through EGL device:
 # the GL device, WCSPH throughput against particle count, the production stability suite (docs/validation.md)
-# one solver at a time, and the SPlisHSPlasH dam break against the peer on the node's cores. Each step has
+# one solver at a time, and the SPlisHSPlasH dam break against the peer on the node's cores (at the defaults,
+# and with the density solve warm-started after flow-limited steps, docs/performance.md). Each step has
 # its own time limit (seconds, the step's first argument to `step`) so that one slow step leaves the others'
 # figures; everything goes to OUT_DIR/gpu_figures.log and the suite reports to OUT_DIR/stability_SOLVER.md.
 #
@@ -34,12 +35,14 @@ step 60 "$build/bench/sim_bench" --scene scenes/dam_break.json --particles 3e4 -
 step 40 "$build/bench/sim_bench" --scene scenes/dam_break_splishsplash.json --particles 0 --seconds 1 --fps 25
 for solver in dfsph wcsph; do
   limit=120
-  [ "$solver" = wcsph ] && limit=200
+  [ "$solver" = wcsph ] && limit=150
   step $limit "$build/cli/sphfx" stability --suite studies/stability_production.json --solvers "$solver" \
     -o "$out/stability_$solver" --gl egl-device
   cp "$out/stability_$solver/stability.md" "$out/stability_$solver.md" 2> /dev/null
   rm -rf "$out/stability_$solver"
 done
 if [ -n "$peer" ] && [ -d "$peer" ]; then
-  step 120 sh bench/splishsplash_compare.sh "$build" "$peer" /tmp/splishsplash_compare 1 -- --gl egl-device
+  step 90 sh bench/splishsplash_compare.sh "$build" "$peer" /tmp/splishsplash_compare 1 -- --gl egl-device
+  step 90 sh bench/splishsplash_compare.sh "$build" "$peer" /tmp/splishsplash_compare 1 -- --gl egl-device \
+    --set solver.dfsph.density_warm_share=0.8 --set solver.dfsph.density_warm_steps=flow_limited
 fi

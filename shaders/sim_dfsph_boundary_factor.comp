@@ -152,7 +152,7 @@ void main() {
 #else
   vec4 last = dfsph[at];
   dfsph[at] = vec4(nearFluid ? 1.0 / squares : 0.0, share - last.w,
-                   nearFluid ? DFSPH_DENSITY_WARM_SHARE * last.z : 0.0, last.w);
+                   nearFluid ? DFSPH_DENSITY_WARM_BEFORE_STEP * last.z : 0.0, last.w);
 #endif
 #endif
 }

@@ -25,7 +25,7 @@ float artificialViscosity(vec3 vij, vec3 xij, float r2, float rhoSum) {
 // substep's list (its entries hold m grad W), boundary samples from the grid (only rows near walls and
 // colliders hold any). `pressure` is the constant-density solve's warm start as an acceleration,
 // -sum_j (P_i + P_j) m grad W_ij - c P_i sum_b psi_b grad W_ib (c = DFSPH_DENSITY_WALL_PUSH) with
-// P = DFSPH_DENSITY_WARM_SHARE times the last substep's total (vel.w), and with constraint walls
+// P = DFSPH_DENSITY_WARM_BEFORE_STEP times the last substep's total (vel.w), and with constraint walls
 // -sum_b P_b psi_b grad W_ib (P_b already shared, sim_dfsph_boundary_factor.comp): what the solve's warm pass used
 // to apply in a list pass of its own (sim_dfsph_source.comp then only predicts v* = v + dt a).
 void viscosityAndWarmPressure(uint i, vec3 xi, vec3 vi, float rhoi, float pi, out vec3 visc,
@@ -43,7 +43,7 @@ void viscosityAndWarmPressure(uint i, vec3 xi, vec3 vi, float rhoi, float pi, ou
     vec4 e = dfsphEntry(i, k);
     uint j = floatBitsToUint(e.w);
     vec4 vj = sphFetchVel(j);
-    push -= (pi + DFSPH_DENSITY_WARM_SHARE * vj.w) * e.xyz;
+    push -= (pi + DFSPH_DENSITY_WARM_BEFORE_STEP * vj.w) * e.xyz;
 #if defined(VISCOSITY_ARTIFICIAL) || defined(VISCOSITY_LAPLACIAN)
     vec3 d = sphDelta(xi, sphFetchPos(j).xyz);
 #if defined(VISCOSITY_ARTIFICIAL)
@@ -91,7 +91,8 @@ void main() {
   if (live) {
     vec4 v = sphFetchVel(i);
     vec3 xi = sphFetchPos(i).xyz, vi = v.xyz, visc, pressure;
-    viscosityAndWarmPressure(i, xi, vi, sphFetchDensity(i).x, DFSPH_DENSITY_WARM_SHARE * v.w, visc, pressure);
+    viscosityAndWarmPressure(i, xi, vi, sphFetchDensity(i).x, DFSPH_DENSITY_WARM_BEFORE_STEP * v.w, visc,
+                             pressure);
     // The time step bounds the non-pressure acceleration only (the solve decides the pressure).
     vec3 a = simGravity.xyz + visc;
     accel[i] = vec4(a + pressure + accel[i].xyz, 0.0);  // accel: the walls' hydrostatic push

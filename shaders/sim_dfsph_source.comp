@@ -92,7 +92,7 @@ void main() {
     // no apply pass follows (only particle i is touched: the warm pass reads no neighbour).
     if (uWarm != 0u) {
       vec4 v = vel[i];
-      float total = DFSPH_WARM_SHARE * v.w;
+      float total = DFSPH_DENSITY_WARM_AFTER_STEP * v.w;  // the share, or 0 (sph_dfsph.glsl)
       vel[i] = vec4(v.xyz + stateDt * accel[i].xyz, total);
       accel[i] = vec4(0.0);
       dfsph[i].z = total;

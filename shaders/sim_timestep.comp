@@ -63,6 +63,14 @@ void main() {
   stateMaxSpeed2 = 0u;
   stateMaxAccel2 = 0u;
   stateMaxDensity = 0u;
+#if defined(DFSPH_WARM_FLOW_LIMITED)
+  // This substep's constant-density solve (after this pass) starts warm if the last chosen step was the
+  // flow's, as its factor and non-pressure passes (before it) read from stateFlowLimited; this step's
+  // limit decides the next substep's.
+  stateWarmDensity = stateFlowLimited;
+  stateWarmSubsteps += stateFlowLimited;
+  stateFlowLimited = simStep.w == 0.0 && dt < simLimits.y ? 1u : 0u;
+#endif
   if (simStep.w == 0.0) dt = min(dt, simLimits.y);
   // Land on the frame: the last step takes what remains; when less than two steps remain, split the
   // rest in halves rather than leave a sliver. dt is a float: a dt_max equal to the frame time (e.g.

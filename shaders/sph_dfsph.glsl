@@ -89,6 +89,18 @@ float dfsphWallScale(vec3 xb) {
 #error "DFSPH_DENSITY_WALL_PUSH: set by DFSPHSolver from solver.dfsph.density_wall_push"
 #endif
 
+// The constant-density solve's warm share in this substep: DFSPH_DENSITY_WARM_SHARE
+// (solver.dfsph.density_warm_share), with DFSPH_WARM_FLOW_LIMITED only after a substep whose step the flow
+// set (density_warm_steps "flow_limited"; sim_timestep.comp). The passes before the substep's
+// sim_timestep.comp read that from stateFlowLimited, the passes after it from stateWarmDensity.
+#if defined(DFSPH_WARM_FLOW_LIMITED)
+#define DFSPH_DENSITY_WARM_BEFORE_STEP (stateFlowLimited != 0u ? DFSPH_DENSITY_WARM_SHARE : 0.0)
+#define DFSPH_DENSITY_WARM_AFTER_STEP (stateWarmDensity != 0u ? DFSPH_DENSITY_WARM_SHARE : 0.0)
+#else
+#define DFSPH_DENSITY_WARM_BEFORE_STEP DFSPH_DENSITY_WARM_SHARE
+#define DFSPH_DENSITY_WARM_AFTER_STEP DFSPH_DENSITY_WARM_SHARE
+#endif
+
 // Neighbour lists, built once per substep by sim_dfsph_factor.comp and read by every solver iteration,
 // so that an iteration visits the ~30 neighbours of a particle instead of the ~200 candidates of its
 // 27 cells, and evaluates no kernel. The writer (sim_dfsph_factor.comp) uses the storage blocks below,

@@ -243,6 +243,15 @@ std::shared_ptr<const Object<DfsphSettings>> dfsphSchema() {
                 "at its tolerance holding part of the last pressure: at 0.5 a 12,000-particle tank at "
                 "depth_step_factor 0.2 ends 2 s at 100 times the kinetic energy of a cold start "
                 "(docs/validation.md).")
+        .choice("density_warm_steps", &DfsphSettings::densityWarmSteps, DfsphWarmSteps::All,
+                {{"all", DfsphWarmSteps::All}, {"flow_limited", DfsphWarmSteps::FlowLimited}},
+                "The substeps whose constant-density solve starts warm: \"all\"; or \"flow_limited\", "
+                "only those after a substep whose step the flow set (CFL mode: the speed, fall or viscous "
+                "limit below time.dt_max and depth_step_factor's cap). Water at rest, which the cap steps, "
+                "then starts every solve cold and gives the same caches as density_warm_share 0, while "
+                "fast flow keeps the warm start's fewer iterations. The first substep of each frame and "
+                "every fixed step start cold.")
+        .onlyWhen([](const DfsphSettings& d) { return d.densityWarmShare > 0; }, "density_warm_share > 0")
         .number("divergence_warm_share", &DfsphSettings::divergenceWarmShare, 0.5, "", Range::closed(0, 1),
                 "The same for the divergence solve (SPlisHSPlasH's 0.5); the full share keeps re-applying a "
                 "stale impulse and a resting tank does not settle.")
@@ -1270,8 +1279,9 @@ Json sceneIdentityJson(const Scene& scene) {
   if (j["solver"].contains("dfsph")) {
     Json& dfsph = j["solver"]["dfsph"];
     if (dfsph.value("walls", "") == "push") dfsph.erase("walls");  // the only walls before the choice existed
-    if (dfsph.value("density_kernel", "") == "poly6") dfsph.erase("density_kernel");     // likewise
-    if (dfsph.value("depth_step_factor", 0.0) == 0.0) dfsph.erase("depth_step_factor");  // likewise
+    if (dfsph.value("density_kernel", "") == "poly6") dfsph.erase("density_kernel");        // likewise
+    if (dfsph.value("depth_step_factor", 0.0) == 0.0) dfsph.erase("depth_step_factor");     // likewise
+    if (dfsph.value("density_warm_steps", "") == "all") dfsph.erase("density_warm_steps");  // likewise
   }
   for (Json& c : j["colliders"])
     for (Json& k : c["keyframes"])

@@ -172,6 +172,12 @@ SimParams makeSimParams(const Scene& scene, uint32_t particles, uint32_t boundar
   return p;
 }
 
+bool dfsphWarmsFlowLimited(const Scene& scene) {
+  const DfsphSettings& d = scene.solver.dfsph;
+  return scene.solver.method == Solver::DFSPH && d.densityWarmShare > 0 &&
+         d.densityWarmSteps == DfsphWarmSteps::FlowLimited;
+}
+
 ShaderDefines simShaderDefines(const Scene& scene) {
   ShaderDefines d;
   d.set("SIM_WG", kSimWorkGroup);
@@ -186,6 +192,8 @@ ShaderDefines simShaderDefines(const Scene& scene) {
     d.set("HAS_FIELD_COLLIDERS");
   if (anyColliderRotates(scene)) d.set("SIM_COLLIDER_ROTATION");
   if (scene.solver.method == Solver::DFSPH) d.set("SOLVER_DFSPH");
+  if (dfsphWarmsFlowLimited(scene))
+    d.set("DFSPH_WARM_FLOW_LIMITED");  // sim_timestep.comp: which limit set dt
   if (scene.domain.isPeriodic(0)) d.set("SIM_PERIODIC_X");
   if (scene.domain.isPeriodic(1)) d.set("SIM_PERIODIC_Y");
   if (scene.domain.isPeriodic(2)) d.set("SIM_PERIODIC_Z");
@@ -231,6 +239,9 @@ std::vector<GpuBlockLayout> simGpuLayouts() {
                    SPHFX_GPU_MEMBER(SimState, maxDensity, "stateMaxDensity"),
                    SPHFX_GPU_MEMBER(SimState, dtLow, "stateDtLow"),
                    SPHFX_GPU_MEMBER(SimState, dtHigh, "stateDtHigh"),
+                   SPHFX_GPU_MEMBER(SimState, flowLimited, "stateFlowLimited"),
+                   SPHFX_GPU_MEMBER(SimState, warmDensity, "stateWarmDensity"),
+                   SPHFX_GPU_MEMBER(SimState, warmSubsteps, "stateWarmSubsteps"),
                    SPHFX_GPU_MEMBER(SimState, healthCount, "stateHealthCount"),
                    SPHFX_GPU_MEMBER(SimState, healthFirst, "stateHealthFirst")};
   // Unsized array of structs: the block size is reported as 0 plus one element stride; members are

@@ -44,8 +44,11 @@ struct SimState {
   uint32_t maxDensity;
   float dtLow;
   float dtHigh;
-  uint32_t healthCount[4];  ///< non-finite, outside the domain, too fast, too dense
-  uint32_t healthFirst[4];  ///< smallest offending id per cause
+  uint32_t flowLimited;   ///< 1: the flow, not dt_max or the depth cap, set the last chosen step
+  uint32_t warmDensity;   ///< stateFlowLimited before the substep's sim_timestep.comp
+  uint32_t warmSubsteps;  ///< per frame: substeps whose constant-density solve started warm
+  alignas(16) uint32_t healthCount[4];  ///< non-finite, outside the domain, too fast, too dense
+  uint32_t healthFirst[4];              ///< smallest offending id per cause
 };
 
 /// Failure bits of SimState::failure (shaders/sph_params.glsl).
@@ -147,6 +150,10 @@ SimParams makeSimParams(const Scene& scene, uint32_t particles, uint32_t boundar
 
 /// Work group size of the per-particle passes.
 constexpr int kSimWorkGroup = 64;
+
+/// DFSPH with solver.dfsph.density_warm_steps "flow_limited" and a warm share (DFSPH_WARM_FLOW_LIMITED):
+/// sim_timestep.comp records which limit set each step, and a frame reports pressure_warm_substeps.
+bool dfsphWarmsFlowLimited(const Scene& scene);
 
 /// Shader variant switches of a scene: EOS, viscosity model, colliders, periodic axes (SIM_PERIODIC_X,
 /// SIM_PERIODIC_Y, SIM_PERIODIC_Z), a varying particle count (SIM_DYNAMIC_COUNT; HAS_EMITTERS,

@@ -311,6 +311,7 @@ FrameStats Simulator::advance() {
   f.dtMean = s.substeps ? s.dtSum / s.substeps : 0;
   SolverFrameReport report = solver_->frameReport();
   f.solverStats = std::move(report.stats);
+  if (dfsphWarmsFlowLimited(scene_)) f.solverStats.emplace_back("pressure_warm_substeps", s.warmSubsteps);
   f.warnings = std::move(report.warnings);
   if (dynamic_) f.particles = int64_t(count_);
   f.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();

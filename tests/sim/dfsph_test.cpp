@@ -633,6 +633,60 @@ TEST_P(DFSPHAtCfl, DamBreakAtLargeTimeStepMatchesMartinMoyce) {
 INSTANTIATE_TEST_SUITE_P(CflFactors, DFSPHAtCfl,
                          ::testing::Values(LargeStep{0.4, 0}, LargeStep{0.8, 0}, LargeStep{1.0, 0.8}));
 
+// solver.dfsph.density_warm_steps "flow_limited" warm-starts the constant-density solve only after a
+// substep whose step the flow set. Water at rest is stepped by the depth cap, so every solve starts cold:
+// the caches are those of density_warm_share 0, bit for bit, where the same share in every substep gives
+// others. In the dam break the surge's speed sets the step once it runs, and there the warm start saves
+// iterations against the cold start, at the same density tolerance.
+TEST_F(DFSPH, FlowLimitedWarmStartRestsAsTheColdStartAndSavesIterationsInTheSurge) {
+  struct Run {
+    std::vector<ParticleFrame> frames;
+    double iterations = 0, warmSubsteps = 0;
+  };
+  auto run = [](const std::string& file, const std::vector<std::string>& common, const std::string& steps) {
+    std::vector<std::string> o = common;
+    if (!steps.empty()) {
+      o.push_back("solver.dfsph.density_warm_share=0.8");
+      o.push_back("solver.dfsph.density_warm_steps=" + steps);
+    }
+    const Scene s = scene(file, o);
+    Simulator sim(s);
+    Run r;
+    while (sim.frame() < s.time.endFrame) {
+      const FrameStats f = sim.advance();
+      EXPECT_LE(stat(f, "density_error_mean"), s.solver.dfsph.maxDensityError)
+          << steps << " frame " << f.frame;
+      r.iterations += stat(f, "pressure_iterations_mean") * f.substeps;
+      if (steps == "flow_limited") r.warmSubsteps += stat(f, "pressure_warm_substeps");
+      r.frames.push_back(sim.cacheFrame());
+    }
+    return r;
+  };
+  auto same = [](const Run& a, const Run& b) {
+    for (size_t k = 0; k < a.frames.size(); ++k)
+      if (a.frames[k].position != b.frames[k].position || a.frames[k].velocity != b.frames[k].velocity)
+        return false;
+    return a.frames.size() == b.frames.size();
+  };
+  const std::vector<std::string> rest = {"fluid.spacing=0.02", "time.end_frame=8"};
+  const Run restCold = run("hydrostatic.json", rest, ""),
+            restFlow = run("hydrostatic.json", rest, "flow_limited"),
+            restAll = run("hydrostatic.json", rest, "all");
+  EXPECT_EQ(restFlow.warmSubsteps, 0);
+  EXPECT_TRUE(same(restFlow, restCold)) << "at rest flow_limited must start every solve cold";
+  EXPECT_FALSE(same(restAll, restCold)) << "the warm start in every substep changes the resting run";
+  const std::vector<std::string> surge = {"fluid.spacing=0.02", "time.end_frame=12"};
+  const Run surgeCold = run("dam_break.json", surge, ""),
+            surgeFlow = run("dam_break.json", surge, "flow_limited");
+  std::printf(
+      "DFSPH flow-limited warm start: %.0f against %.0f constant-density iterations (dam break), %.0f "
+      "substeps warm\n",
+      surgeFlow.iterations, surgeCold.iterations, surgeFlow.warmSubsteps);
+  EXPECT_GT(surgeFlow.warmSubsteps, 0);
+  EXPECT_FALSE(same(surgeFlow, surgeCold)) << "the surge's steps are the flow's: the warm start must act";
+  EXPECT_LT(surgeFlow.iterations, surgeCold.iterations);
+}
+
 // Same scene twice: byte-identical caches (deterministic reductions, no float atomics). Then a run
 // resumed from a restart file continues bit-identically (the warm start travels in the state).
 TEST_F(DFSPH, CachesAreDeterministicAndResumeIsBitIdentical) {

@@ -24,6 +24,8 @@ enum class SphKernel { WendlandC2, Muller2003 };
 enum class DfsphWalls { Push, Constraints };
 /// The fluid's density kernel under DFSPH (solver.dfsph.density_kernel).
 enum class DfsphDensityKernel { Poly6, Spiky };
+/// The substeps whose constant-density solve starts warm (solver.dfsph.density_warm_steps).
+enum class DfsphWarmSteps { All, FlowLimited };
 enum class ViscosityModel { None, Laplacian, Artificial };
 enum class TimeStepMode { Fixed, Cfl };
 /// Box and sphere: fluid blocks and colliders; mesh and vdb: colliders only.
@@ -116,6 +118,8 @@ struct DfsphSettings {
   double fallFactor = 0;           ///< CFL mode: |a|max dt^2 <= fallFactor * spacing
   /// CFL mode: dt <= depthStepFactor * spacing / sqrt(|g| H), H the domain's extent along gravity (0: off)
   double depthStepFactor = 0;
+  /// The substeps densityWarmShare applies in (with densityWarmShare > 0)
+  DfsphWarmSteps densityWarmSteps = DfsphWarmSteps::All;
 };
 
 struct SolverSettings {
