@@ -6,8 +6,9 @@
 # The parameters: Monaghan's alpha, the speed of sound (WCSPH's EOS; both solvers' viscosity), the
 # walls' drag (fluid.wall_viscosity_factor, which multiplies fluid.wall_viscosity_speed; left out when
 # the common options set it), the time step's factors (time.cfl_factor; WCSPH's force factor, DFSPH's
-# fall factor and depth cap), DFSPH's density tolerance, and the surface particles' wall contact
-# (fluid.wall_contact: halved, and doubled up to its largest value, 1).
+# fall factor and depth cap), DFSPH's density tolerance, DFSPH's density warm share when the common options
+# set one above 0 (halved, and doubled up to 1), and the surface particles' wall contact (fluid.wall_contact:
+# halved, and doubled up to its largest value, 1).
 #
 #   sh bench/sensitivity.sh [BUILD_DIR] [OUT_DIR] ["--set KEY=VALUE ..." applied to every run] [SOLVERS]
 #
@@ -36,6 +37,7 @@ case "$common" in
   *wall_viscosity_factor*) wall_factor=no ;;
   *) wall_factor=yes ;;
 esac
+warm_share=$(printf '%s\n' "$common" | sed -n 's/.*density_warm_share=\([0-9.]*\).*/\1/p')
 case " $solvers " in *" wcsph "*)
   run wcsph
   run wcsph_alpha_0.01 --set fluid.artificial_viscosity=0.01
@@ -74,6 +76,11 @@ case " $solvers " in *" dfsph "*)
   fi
   run dfsph_contact_0.3 --set solver.method=dfsph --set fluid.wall_contact=0.3
   run dfsph_contact_1 --set solver.method=dfsph --set fluid.wall_contact=1
+  if [ -n "$warm_share" ] && python3 -c "import sys; sys.exit(not float('$warm_share') > 0)"; then
+    for share in $(python3 -c "s = float('$warm_share'); print(f'{s / 2:g} {min(2 * s, 1):g}')"); do
+      run "dfsph_warm_$share" --set solver.method=dfsph --set "solver.dfsph.density_warm_share=$share"
+    done
+  fi
   ;;
 esac
 python3 - "$out" <<'PY'
