@@ -645,7 +645,9 @@ TEST_F(DFSPH, FlowLimitedWarmStartRestsAsTheColdStartAndSavesIterationsInTheSurg
   };
   auto run = [](const std::string& file, const std::vector<std::string>& common, const std::string& steps) {
     std::vector<std::string> o = common;
-    if (!steps.empty()) {
+    if (steps.empty()) {
+      o.push_back("solver.dfsph.density_warm_share=0");  // the cold start, whatever the default
+    } else {
       o.push_back("solver.dfsph.density_warm_share=0.8");
       o.push_back("solver.dfsph.density_warm_steps=" + steps);
     }
