@@ -36,7 +36,7 @@ layout(std430, binding = SPHFX_SSBO_SIM_STATE) buffer SimStateBlock {
   uint stateMaxDensity;
   float stateDtLow;
   float stateDtHigh;
-  // DFSPH_WARM_FLOW_LIMITED (solver.dfsph.density_warm_steps "flow_limited"), both 0 at a frame's start:
+  // DFSPH_WARM_FLOW_LIMITED (solver.dfsph.density_warm_steps "flow_limited"), all 0 at a frame's start:
   uint stateFlowLimited;  // 1: the flow (not dt_max or the depth cap) set the last chosen step
   uint stateWarmDensity;  // after sim_timestep.comp: the value stateFlowLimited had before it
   uint stateWarmSubsteps;  // per frame: substeps whose constant-density solve started warm
