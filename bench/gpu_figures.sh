@@ -2,7 +2,7 @@
 # The GPU path's figures (docs/performance.md, docs/validation.md) on a GPU render node through EGL device:
 # the GL device, WCSPH throughput against particle count, the production stability suite (docs/validation.md)
 # one solver at a time, and the SPlisHSPlasH dam break against the peer on the node's cores (at the defaults,
-# and with the density solve warm-started after flow-limited steps, docs/performance.md). Each step has
+# and with the density solve's warm share 0.8, docs/performance.md). Each step has
 # its own time limit (seconds, the step's first argument to `step`) so that one slow step leaves the others'
 # figures; everything goes to OUT_DIR/gpu_figures.log and the suite reports to OUT_DIR/stability_SOLVER.md.
 #
@@ -44,5 +44,5 @@ done
 if [ -n "$peer" ] && [ -d "$peer" ]; then
   step 90 sh bench/splishsplash_compare.sh "$build" "$peer" /tmp/splishsplash_compare 1 -- --gl egl-device
   step 90 sh bench/splishsplash_compare.sh "$build" "$peer" /tmp/splishsplash_compare 1 -- --gl egl-device \
-    --set solver.dfsph.density_warm_share=0.8 --set solver.dfsph.density_warm_steps=flow_limited
+    --set solver.dfsph.density_warm_share=0.8
 fi

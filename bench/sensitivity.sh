@@ -6,8 +6,8 @@
 # The parameters: Monaghan's alpha, the speed of sound (WCSPH's EOS; both solvers' viscosity), the
 # walls' drag (fluid.wall_viscosity_factor, which multiplies fluid.wall_viscosity_speed; left out when
 # the common options set it), the time step's factors (time.cfl_factor; WCSPH's force factor, DFSPH's
-# fall factor and depth cap), DFSPH's density tolerance, DFSPH's density warm share when the common options
-# set one above 0 (halved, and doubled up to 1), and the surface particles' wall contact (fluid.wall_contact:
+# fall factor and depth cap), DFSPH's density tolerance, DFSPH's density warm share (0.5, or the common
+# options' value when above 0: halved, and doubled up to 1), and the surface particles' wall contact (fluid.wall_contact:
 # halved, and doubled up to its largest value, 1).
 #
 #   sh bench/sensitivity.sh [BUILD_DIR] [OUT_DIR] ["--set KEY=VALUE ..." applied to every run] [SOLVERS]
@@ -38,6 +38,7 @@ case "$common" in
   *) wall_factor=yes ;;
 esac
 warm_share=$(printf '%s\n' "$common" | sed -n 's/.*density_warm_share=\([0-9.]*\).*/\1/p')
+warm_share=${warm_share:-0.5}  # DFSPH's default
 case " $solvers " in *" wcsph "*)
   run wcsph
   run wcsph_alpha_0.01 --set fluid.artificial_viscosity=0.01

@@ -237,13 +237,14 @@ std::shared_ptr<const Object<DfsphSettings>> dfsphSchema() {
                 "Share of a particle's previous stiffness increment added to the next (heavy-ball Jacobi, "
                 "Polyak 1964); 0 is plain relaxed Jacobi, which needs about 1.5 times the iterations (the "
                 "dam break's first frame from rest).")
-        .number("density_warm_share", &DfsphSettings::densityWarmShare, 0, "", Range::closed(0, 1),
-                "Share of the last step's stiffness the constant-density solve starts from (warm start). "
-                "A warm start needs fewer iterations in fast flow, but at rest it lets the solve stop "
-                "at its tolerance holding part of the last pressure: at 0.5 a 12,000-particle tank at "
-                "depth_step_factor 0.2 ends 2 s at 100 times the kinetic energy of a cold start "
-                "(docs/validation.md).")
-        .choice("density_warm_steps", &DfsphSettings::densityWarmSteps, DfsphWarmSteps::All,
+        .number("density_warm_share", &DfsphSettings::densityWarmShare, 0.5, "", Range::closed(0, 1),
+                "Share of the last step's stiffness the constant-density solve starts from (warm start), "
+                "in the substeps density_warm_steps names. A warm start needs fewer iterations in fast "
+                "flow, but at rest it lets the solve stop at its tolerance holding part of the last "
+                "pressure: at 0.5 in every substep a 12,000-particle tank at depth_step_factor 0.2 ends 2 s "
+                "at 100 times the kinetic energy of a cold start (docs/validation.md). 0 starts every "
+                "solve cold.")
+        .choice("density_warm_steps", &DfsphSettings::densityWarmSteps, DfsphWarmSteps::FlowLimited,
                 {{"all", DfsphWarmSteps::All}, {"flow_limited", DfsphWarmSteps::FlowLimited}},
                 "The substeps whose constant-density solve starts warm: \"all\"; or \"flow_limited\", "
                 "only those after a substep whose step the flow set (CFL mode: the speed, fall or viscous "
@@ -289,10 +290,10 @@ std::shared_ptr<const Object<DfsphSettings>> dfsphSchema() {
                 "CFL mode: caps the step at this factor times spacing / sqrt(|g| H), H the domain's extent "
                 "along gravity (sqrt(g H): the speed of gravity waves in the deepest column the domain "
                 "holds); 0 leaves the cap out. A resting column of depth H grows once the step passes about "
-                "spacing / sqrt(g H), at any spacing. With density_warm_share 0, 0.4 (2.0 and 1.0 ms in its "
-                "0.4 m domain) settles the 0.3 m tank at spacing 0.01 and 0.005 (docs/validation.md); a "
-                "warm-started solve is noisier well below the rule (share 0.5 needs 0.8). Fixed steps "
-                "leave it out.")
+                "spacing / sqrt(g H), at any spacing. With cold-started solves in the cap's steps "
+                "(density_warm_steps \"flow_limited\"), 0.4 (2.0 and 1.0 ms in its 0.4 m domain) settles the "
+                "0.3 m tank at spacing 0.01 and 0.005 (docs/validation.md); a solve warm-started in every "
+                "substep is noisier well below the rule (share 0.5 needs 0.8). Fixed steps leave it out.")
         .check([](const DfsphSettings& d, const Json&, const std::string& path) {
           const int least = std::max(d.minIterations, d.minDivergenceIterations);
           if (least > d.maxIterations)

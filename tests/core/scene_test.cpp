@@ -285,26 +285,28 @@ TEST(Scene, IdentityLeavesOutAWallSpeedEqualToTheFluidsAlphaC) {
       << "the defaults: 0.6 m/s = 0.02 x 30 m/s";
 }
 
-// solver.dfsph.density_warm_steps qualifies density_warm_share: with share 0 nothing reads it (an error
-// to give, left out of the resolved scene), and "all", what a warm start did before the key existed,
-// keeps a scene's identity.
+// solver.dfsph.density_warm_steps qualifies density_warm_share: "flow_limited" by default; with share 0
+// nothing reads it (an error to give, left out of the resolved scene), and "all", what a warm start did
+// before the key existed, keeps a scene's identity.
 TEST(Scene, DfsphWarmStepsOnlyWithAWarmShare) {
   Json raw = minimal();
   raw["solver"]["method"] = "dfsph";
+  const Scene defaults = parseScene(raw, "x.json");
+  EXPECT_EQ(defaults.solver.dfsph.densityWarmShare, 0.5);
+  EXPECT_EQ(defaults.solver.dfsph.densityWarmSteps, DfsphWarmSteps::FlowLimited);
+  EXPECT_EQ(sceneIdentityJson(defaults)["solver"]["dfsph"]["density_warm_steps"], "flow_limited");
+  EXPECT_EQ(parseScene(sceneToJson(defaults), "x.json").solver.dfsph.densityWarmSteps,
+            DfsphWarmSteps::FlowLimited);
+  raw["solver"]["dfsph"]["density_warm_share"] = 0;
   EXPECT_FALSE(sceneToJson(parseScene(raw, "x.json"))["solver"]["dfsph"].contains("density_warm_steps"));
   raw["solver"]["dfsph"]["density_warm_steps"] = "flow_limited";
   EXPECT_NE(errorOf(raw).find("/solver/dfsph/density_warm_steps"), std::string::npos) << errorOf(raw);
   raw["solver"]["dfsph"]["density_warm_share"] = 0.8;
-  const Scene flow = parseScene(raw, "x.json");
-  EXPECT_EQ(flow.solver.dfsph.densityWarmSteps, DfsphWarmSteps::FlowLimited);
-  EXPECT_EQ(sceneIdentityJson(flow)["solver"]["dfsph"]["density_warm_steps"], "flow_limited");
-  EXPECT_EQ(parseScene(sceneToJson(flow), "x.json").solver.dfsph.densityWarmSteps,
-            DfsphWarmSteps::FlowLimited);
   raw["solver"]["dfsph"]["density_warm_steps"] = "all";
-  EXPECT_FALSE(
-      sceneIdentityJson(parseScene(raw, "x.json"))["solver"]["dfsph"].contains("density_warm_steps"));
-  raw["solver"]["dfsph"].erase("density_warm_steps");
-  EXPECT_EQ(sceneToJson(parseScene(raw, "x.json"))["solver"]["dfsph"]["density_warm_steps"], "all");
+  const Scene all = parseScene(raw, "x.json");
+  EXPECT_EQ(all.solver.dfsph.densityWarmSteps, DfsphWarmSteps::All);
+  EXPECT_FALSE(sceneIdentityJson(all)["solver"]["dfsph"].contains("density_warm_steps"));
+  EXPECT_EQ(sceneToJson(all)["solver"]["dfsph"]["density_warm_steps"], "all");
 }
 
 // solver.dfsph.depth_step_factor caps DFSPH's CFL step at factor d / sqrt(|g| H), H the domain's extent

@@ -579,22 +579,31 @@ TEST_F(DFSPH, MomentumSolvesTheSameSystemInFewerIterations) {
 // Dam break (a = 0.2, n^2 = 2) at frame-sized steps: dt reaches 0.014 s or more (the CFL limit of the
 // still column), the run stays healthy, and the surge front follows Martin & Moyce within the WCSPH
 // test's tolerance (physics_test.cpp: mean |Z - Z_ref| < 0.35, front = largest x + half a spacing). At the
-// default CFL factor 0.4, at 0.8 (docs/performance.md's 100k comparison), and at the CFL factor and warm
-// start of docs/simulation.md's surge settings (1.0, the density solve started from 0.8 of the last total).
+// default CFL factor 0.4 and warm start (0.5 of the last total after flow-limited steps), at 0.8 with a
+// cold start (docs/performance.md's 100k comparison), and at the CFL factor and warm start of
+// docs/simulation.md's surge settings (1.0, the density solve started from 0.8 of the last total in every
+// substep).
 // Without the depth cap (solver.dfsph.depth_step_factor: 3.3 ms here), which a resting column needs and
 // a surge does not.
 struct LargeStep {
   double cfl;
   double densityWarmShare;
+  const char* densityWarmSteps;  ///< with a share above 0
 };
 class DFSPHAtCfl : public DFSPH, public ::testing::WithParamInterface<LargeStep> {};
 
 TEST_P(DFSPHAtCfl, DamBreakAtLargeTimeStepMatchesMartinMoyce) {
-  const Scene s =
-      scene("dam_break.json", {"fluid.spacing=0.02", "time.fps=60", "time.end_frame=22", "time.dt_max=0.02",
-                               fmt::format("time.cfl_factor={}", GetParam().cfl),
-                               fmt::format("solver.dfsph.density_warm_share={}", GetParam().densityWarmShare),
-                               "solver.dfsph.depth_step_factor=0"});
+  std::vector<std::string> options = {
+      "fluid.spacing=0.02",
+      "time.fps=60",
+      "time.end_frame=22",
+      "time.dt_max=0.02",
+      fmt::format("time.cfl_factor={}", GetParam().cfl),
+      fmt::format("solver.dfsph.density_warm_share={}", GetParam().densityWarmShare),
+      "solver.dfsph.depth_step_factor=0"};
+  if (GetParam().densityWarmShare > 0)
+    options.push_back(fmt::format("solver.dfsph.density_warm_steps={}", GetParam().densityWarmSteps));
+  const Scene s = scene("dam_break.json", options);
   const study::Table ref =
       study::MartinMoyce::load(std::string(SPHFX_SOURCE_DIR) + "/studies/reference").front;
   Simulator sim(s);
@@ -631,7 +640,8 @@ TEST_P(DFSPHAtCfl, DamBreakAtLargeTimeStepMatchesMartinMoyce) {
 }
 
 INSTANTIATE_TEST_SUITE_P(CflFactors, DFSPHAtCfl,
-                         ::testing::Values(LargeStep{0.4, 0}, LargeStep{0.8, 0}, LargeStep{1.0, 0.8}));
+                         ::testing::Values(LargeStep{0.4, 0.5, "flow_limited"}, LargeStep{0.8, 0, ""},
+                                           LargeStep{1.0, 0.8, "all"}));
 
 // solver.dfsph.density_warm_steps "flow_limited" warm-starts the constant-density solve only after a
 // substep whose step the flow set. Water at rest is stepped by the depth cap, so every solve starts cold:
