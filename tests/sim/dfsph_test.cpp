@@ -590,6 +590,9 @@ struct LargeStep {
   double densityWarmShare;
   const char* densityWarmSteps;  ///< with a share above 0
 };
+void PrintTo(const LargeStep& s, std::ostream* os) {
+  *os << "cfl " << s.cfl << ", density warm share " << s.densityWarmShare << " " << s.densityWarmSteps;
+}
 class DFSPHAtCfl : public DFSPH, public ::testing::WithParamInterface<LargeStep> {};
 
 TEST_P(DFSPHAtCfl, DamBreakAtLargeTimeStepMatchesMartinMoyce) {
@@ -641,7 +644,15 @@ TEST_P(DFSPHAtCfl, DamBreakAtLargeTimeStepMatchesMartinMoyce) {
 
 INSTANTIATE_TEST_SUITE_P(CflFactors, DFSPHAtCfl,
                          ::testing::Values(LargeStep{0.4, 0.5, "flow_limited"}, LargeStep{0.8, 0, ""},
-                                           LargeStep{1.0, 0.8, "all"}));
+                                           LargeStep{1.0, 0.8, "all"}),
+                         [](const ::testing::TestParamInfo<LargeStep>& info) {
+                           const LargeStep& p = info.param;
+                           const std::string warm =
+                               p.densityWarmShare > 0
+                                   ? fmt::format("warm{:.0f}_{}", 10 * p.densityWarmShare, p.densityWarmSteps)
+                                   : std::string("cold");
+                           return fmt::format("cfl{:.0f}_{}", 10 * p.cfl, warm);
+                         });
 
 // solver.dfsph.density_warm_steps "flow_limited" warm-starts the constant-density solve only after a
 // substep whose step the flow set. Water at rest is stepped by the depth cap, so every solve starts cold:
