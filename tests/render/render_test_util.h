@@ -7,6 +7,7 @@
 #include <memory>
 #include <string>
 
+#include <unistd.h>
 #include "renderer.h"
 #include "sphfx/gpu/gl_context.h"
 
@@ -18,7 +19,8 @@ inline std::unique_ptr<GLContext> makeContext() {
 }
 
 inline std::string tempDir(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / ("sphfx_render_test_" + name);
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("sphfx_render_test_" + name + "_" + std::to_string(::getpid()));
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir.string();

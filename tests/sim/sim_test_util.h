@@ -14,6 +14,7 @@
 #include <utility>
 #include <vector>
 
+#include <unistd.h>
 #include "bindings.h"
 #include "dispatch_gate.h"
 #include "gpu_types.h"
@@ -46,10 +47,12 @@ inline std::string solverParamName(const ::testing::TestParamInfo<std::string>& 
   return info.param;
 }
 
-/// Simulates `scene` into the shot TMP/sphfx_sim_test_NAME (emptied first unless `resume`), without a
+/// Simulates `scene` into the shot TMP/sphfx_sim_test_NAME_PID (emptied first unless `resume`), without a
 /// progress line; returns the shot folder.
 inline std::string simulateTestShot(const std::string& name, const Scene& scene, bool resume = false) {
-  const std::string shot = (std::filesystem::temp_directory_path() / ("sphfx_sim_test_" + name)).string();
+  const std::string shot =
+      (std::filesystem::temp_directory_path() / ("sphfx_sim_test_" + name + "_" + std::to_string(::getpid())))
+          .string();
   if (!resume) std::filesystem::remove_all(shot);
   sim::SimulationOptions o;
   o.shotDir = shot;
