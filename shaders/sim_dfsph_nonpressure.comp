@@ -26,8 +26,8 @@ float artificialViscosity(vec3 vij, vec3 xij, float r2, float rhoSum) {
 // colliders hold any). `pressure` is the constant-density solve's warm start as an acceleration,
 // -sum_j (P_i + P_j) m grad W_ij - c P_i sum_b psi_b grad W_ib (c = DFSPH_DENSITY_WALL_PUSH) with
 // P = DFSPH_DENSITY_WARM_BEFORE_STEP times the last substep's total (vel.w), and with constraint walls
-// -sum_b P_b psi_b grad W_ib (P_b already shared, sim_dfsph_boundary_factor.comp): what the solve's warm pass used
-// to apply in a list pass of its own (sim_dfsph_source.comp then only predicts v* = v + dt a).
+// -sum_b P_b psi_b grad W_ib (P_b already shared, sim_dfsph_boundary_factor.comp), so that the solve's warm
+// pass needs no list pass of its own (sim_dfsph_source.comp only predicts v* = v + dt a).
 void viscosityAndWarmPressure(uint i, vec3 xi, vec3 vi, float rhoi, float pi, out vec3 visc,
                               out vec3 pressure) {
   vec3 fluid = vec3(0.0), wall = vec3(0.0), push = -(DFSPH_DENSITY_WALL_PUSH * pi) * dfsphBoundary(i).xyz;
