@@ -10,8 +10,8 @@
 // fluid at rest that fills the domain's floor: the particles sorted by height in layers of A / s^2 (A the
 // floor's area), each layer's mean height, and the gaps between them in spacings: how much of a resting
 // column's surface drift is the bottom layer's, the bulk's compression and the top layer's, and with a
-// cached `density` how much of the compression the solver's density sum sees (docs/validation.md,
-// "Known limits").
+// cached `density` how much of the compression the solver's density sum sees, and how much of the cubic
+// lattice each part keeps (docs/validation.md, "Known limits").
 //   cache_speeds SHOT FRAME... [--top N] [--densest N] [--near-walls] [--layers]
 #include <algorithm>
 #include <array>
@@ -111,6 +111,43 @@ double mean(const std::vector<double>& v, size_t first, size_t last) {
   return std::accumulate(v.begin() + long(first), v.begin() + long(last), 0.0) / double(last - first);
 }
 
+// How much of the starting cubic lattice a layer keeps along a horizontal axis: |mean exp(2 pi i x / s)|
+// over its particles, 1 on the lattice, 0 where half its rows have shifted half a spacing (or where it
+// has no order left). A layer's order is the smaller of its x and z figures.
+double layerLatticeOrder(const sphfx::Domain& w, const sphfx::ParticleFrame& f,
+                         const std::vector<size_t>& order, size_t first, size_t last) {
+  const double s = f.particleSpacing, twoPi = 2 * std::acos(-1.0);
+  double result = 1;
+  for (int a : {0, 2}) {
+    double c = 0, sn = 0;
+    for (size_t k = first; k < last; ++k) {
+      const double phase = twoPi * (double(f.position[order[k]][size_t(a)]) - w.min[size_t(a)]) / s;
+      c += std::cos(phase);
+      sn += std::sin(phase);
+    }
+    result = std::min(result, std::hypot(c, sn) / double(last - first));
+  }
+  return result;
+}
+
+// The layers' mean lattice order in the lower, middle and upper third and the top layer: whether a
+// column's compression came with the lattice giving way.
+void reportLatticeOrder(const sphfx::Domain& w, const sphfx::ParticleFrame& f,
+                        const std::vector<size_t>& order, size_t floorCount, size_t layers, size_t third) {
+  auto part = [&](size_t first, size_t last) {
+    double sum = 0;
+    for (size_t k = first; k < last; ++k)
+      sum += layerLatticeOrder(w, f, order, k * floorCount, (k + 1) * floorCount);
+    return sum / double(last - first);
+  };
+  const size_t inner = layers - 2;
+  std::printf(
+      "  lattice order (1: cubic, 0: rows shifted half a spacing): lower third %.3f, middle %.3f, "
+      "upper third %.3f, top layer %.3f\n",
+      part(0, third + 1), part(third + 1, inner - third + 1), part(inner - third + 1, layers - 1),
+      part(layers - 1, layers));
+}
+
 // Layers of floorCount particles by height: the bottom layer above the floor, the mean gap between
 // neighbouring layers in the lower, middle and upper third of the column, and the top layer's gap; with
 // a cached `density`, each part's mean density, which says how much of the gaps' compression the solver's
@@ -138,6 +175,7 @@ void reportLayers(const sphfx::Domain& w, const sphfx::ParticleFrame& f) {
       "third %.4f, middle %.4f, upper third %.4f, top layer %.4f\n",
       layers, floorCount, height[0], height[layers - 1], mean(gap, 0, third), mean(gap, third, inner - third),
       mean(gap, inner - third, inner), gap[layers - 2]);
+  reportLatticeOrder(w, f, order, floorCount, layers, third);
   if (rho.empty()) return;
   // Layer k's particles are k * floorCount .. (k + 1) * floorCount; gap k lies between layers k and k + 1.
   auto layerDensity = [&](size_t first, size_t last) {
