@@ -63,7 +63,7 @@ sphfx::Domain readDomain(const std::string& shot) {
   const sphfx::ManifestJson m = sphfx::readManifest(shot);
   if (!m.contains("simulate") || !m["simulate"].contains("scene"))
     throw std::runtime_error(sphfx::manifestPath(shot) +
-                             ": no simulate.scene (--near-walls reads the domain there)");
+                             ": no simulate.scene (--near-walls and --layers read the domain there)");
   return sphfx::parseScene(m["simulate"]["scene"], sphfx::manifestPath(shot) + " (simulate.scene)").domain;
 }
 
