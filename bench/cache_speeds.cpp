@@ -19,6 +19,7 @@
 #include <cmath>
 #include <cstdio>
 #include <exception>
+#include <numbers>
 #include <numeric>
 #include <stdexcept>
 #include <string>
@@ -116,7 +117,7 @@ double mean(const std::vector<double>& v, size_t first, size_t last) {
 // has no order left). A layer's order is the smaller of its x and z figures.
 double layerLatticeOrder(const sphfx::Domain& w, const sphfx::ParticleFrame& f,
                          const std::vector<size_t>& order, size_t first, size_t last) {
-  const double s = f.particleSpacing, twoPi = 2 * std::acos(-1.0);
+  const double s = f.particleSpacing, twoPi = 2 * std::numbers::pi;
   double result = 1;
   for (int a : {0, 2}) {
     double c = 0, sn = 0;
