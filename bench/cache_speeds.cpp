@@ -112,6 +112,10 @@ double mean(const std::vector<double>& v, size_t first, size_t last) {
   return std::accumulate(v.begin() + long(first), v.begin() + long(last), 0.0) / double(last - first);
 }
 
+// Layer bounds of the lower, middle and upper third of the column and the top layer: part p holds
+// layers parts[p] .. parts[p + 1] - 1.
+using LayerParts = std::array<size_t, 5>;
+
 // How much of the starting cubic lattice a layer keeps along a horizontal axis: |mean exp(2 pi i x / s)|
 // over its particles, 1 on the lattice, 0 where half its rows have shifted half a spacing (or where it
 // has no order left). A layer's order is the smaller of its x and z figures.
@@ -131,22 +135,21 @@ double layerLatticeOrder(const sphfx::Domain& w, const sphfx::ParticleFrame& f,
   return result;
 }
 
-// The layers' mean lattice order in the lower, middle and upper third and the top layer: whether a
-// column's compression came with the lattice giving way.
+// The layers' mean lattice order in each of `parts` (layer bounds, LayerParts): whether a column's
+// compression came with the lattice giving way.
 void reportLatticeOrder(const sphfx::Domain& w, const sphfx::ParticleFrame& f,
-                        const std::vector<size_t>& order, size_t floorCount, size_t layers, size_t third) {
-  auto part = [&](size_t first, size_t last) {
+                        const std::vector<size_t>& order, size_t floorCount, const LayerParts& parts) {
+  double value[4];
+  for (size_t p = 0; p < 4; ++p) {
     double sum = 0;
-    for (size_t k = first; k < last; ++k)
+    for (size_t k = parts[p]; k < parts[p + 1]; ++k)
       sum += layerLatticeOrder(w, f, order, k * floorCount, (k + 1) * floorCount);
-    return sum / double(last - first);
-  };
-  const size_t inner = layers - 2;
+    value[p] = sum / double(parts[p + 1] - parts[p]);
+  }
   std::printf(
       "  lattice order (1: cubic, 0: rows shifted half a spacing): lower third %.3f, middle %.3f, "
       "upper third %.3f, top layer %.3f\n",
-      part(0, third + 1), part(third + 1, inner - third + 1), part(inner - third + 1, layers - 1),
-      part(layers - 1, layers));
+      value[0], value[1], value[2], value[3]);
 }
 
 // Layers of floorCount particles by height: the bottom layer above the floor, the mean gap between
@@ -176,15 +179,13 @@ void reportLayers(const sphfx::Domain& w, const sphfx::ParticleFrame& f) {
       "third %.4f, middle %.4f, upper third %.4f, top layer %.4f\n",
       layers, floorCount, height[0], height[layers - 1], mean(gap, 0, third), mean(gap, third, inner - third),
       mean(gap, inner - third, inner), gap[layers - 2]);
-  reportLatticeOrder(w, f, order, floorCount, layers, third);
-  if (rho.empty()) return;
   // Layer k's particles are k * floorCount .. (k + 1) * floorCount; gap k lies between layers k and k + 1.
-  auto layerDensity = [&](size_t first, size_t last) {
-    return mean(rho, first * floorCount, last * floorCount);
-  };
+  const LayerParts parts = {0, third + 1, inner - third + 1, layers - 1, layers};
+  reportLatticeOrder(w, f, order, floorCount, parts);
+  if (rho.empty()) return;
+  auto partDensity = [&](size_t p) { return mean(rho, parts[p] * floorCount, parts[p + 1] * floorCount); };
   std::printf("  cached density (kg/m^3): lower third %.2f, middle %.2f, upper third %.2f, top layer %.2f\n",
-              layerDensity(0, third + 1), layerDensity(third + 1, inner - third + 1),
-              layerDensity(inner - third + 1, layers - 1), layerDensity(layers - 1, layers));
+              partDensity(0), partDensity(1), partDensity(2), partDensity(3));
 }
 
 void report(const std::string& shot, int frameNumber, size_t top, size_t densest, const sphfx::Domain& domain,
