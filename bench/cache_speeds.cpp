@@ -10,8 +10,10 @@
 // fluid at rest that fills the domain's floor: the particles sorted by height in layers of A / s^2 (A the
 // floor's area), each layer's mean height, and the gaps between them in spacings: how much of a resting
 // column's surface drift is the bottom layer's, the bulk's compression and the top layer's, and with a
-// cached `density` how much of the compression the solver's density sum sees, and how much of the cubic
-// lattice each part keeps (docs/validation.md, "Known limits").
+// cached `density` how much of the compression the solver's density sum sees, how much of the cubic
+// lattice each part keeps, and how each part moves: its mean vertical velocity (the part rising or sinking
+// as a whole) against its RMS speed (any motion, a jitter in place included) (docs/validation.md, "Known
+// limits").
 //   cache_speeds SHOT FRAME... [--top N] [--densest N] [--near-walls] [--layers]
 #include <algorithm>
 #include <array>
@@ -152,10 +154,32 @@ void reportLatticeOrder(const sphfx::Domain& w, const sphfx::ParticleFrame& f,
       value[0], value[1], value[2], value[3]);
 }
 
+// Each part's mean vertical velocity and RMS speed (m/s): a part that moves as a whole has the two alike, a
+// jitter in place an RMS speed well above its mean.
+void reportLayerMotion(const sphfx::ParticleFrame& f, const std::vector<size_t>& order, size_t floorCount,
+                       const LayerParts& parts) {
+  double up[4], rms[4];
+  for (size_t p = 0; p < 4; ++p) {
+    const size_t first = parts[p] * floorCount, last = parts[p + 1] * floorCount;
+    double vy = 0, v2 = 0;
+    for (size_t k = first; k < last; ++k) {
+      const auto& v = f.velocity[order[k]];
+      vy += v[1];
+      v2 += double(v[0]) * v[0] + double(v[1]) * v[1] + double(v[2]) * v[2];
+    }
+    up[p] = vy / double(last - first);
+    rms[p] = std::sqrt(v2 / double(last - first));
+  }
+  std::printf(
+      "  motion (m/s): mean v_y lower third %.4f, middle %.4f, upper third %.4f, top layer %.4f; RMS speed "
+      "%.4f, %.4f, %.4f, %.4f\n",
+      up[0], up[1], up[2], up[3], rms[0], rms[1], rms[2], rms[3]);
+}
+
 // Layers of floorCount particles by height: the bottom layer above the floor, the mean gap between
 // neighbouring layers in the lower, middle and upper third of the column, and the top layer's gap; with
-// a cached `density`, each part's mean density, which says how much of the gaps' compression the solver's
-// density sum sees.
+// each part's lattice order and motion; with a cached `density`, each part's mean density, which says how
+// much of the gaps' compression the solver's density sum sees.
 void reportLayers(const sphfx::Domain& w, const sphfx::ParticleFrame& f) {
   const double s = f.particleSpacing;
   const auto floorCount = size_t(std::lround((w.max[0] - w.min[0]) * (w.max[2] - w.min[2]) / (s * s)));
@@ -182,6 +206,7 @@ void reportLayers(const sphfx::Domain& w, const sphfx::ParticleFrame& f) {
   // Layer k's particles are k * floorCount .. (k + 1) * floorCount; gap k lies between layers k and k + 1.
   const LayerParts parts = {0, third + 1, inner - third + 1, layers - 1, layers};
   reportLatticeOrder(w, f, order, floorCount, parts);
+  reportLayerMotion(f, order, floorCount, parts);
   if (rho.empty()) return;
   auto partDensity = [&](size_t p) { return mean(rho, parts[p] * floorCount, parts[p + 1] * floorCount); };
   std::printf("  cached density (kg/m^3): lower third %.2f, middle %.2f, upper third %.2f, top layer %.2f\n",
