@@ -81,7 +81,7 @@ float restShare(vec3 xb) {
       for (int z = -reach; z <= reach + 1; ++z) {
         vec3 site = simDomainMin.xyz + (base + vec3(x, y, z) + 0.5) * s;
         bool inside = insideDomain(site);
-        sum += inside ? dfsphSpikyW(length(xb - site)) : 0.0;
+        sum += inside ? dfsphW(length(xb - site)) : 0.0;
       }
   return sum;
 }
@@ -103,7 +103,7 @@ float restShareAmongColliders(vec3 xb) {
         vec3 site = xb + s * vec3(x, y, z);
         bool fluid = insideDomain(site);
         for (uint c = 0u; fluid && c < uint(DFSPH_COLLIDERS); ++c) fluid = !sphInsideCollider(c, poses[c], site);
-        sum += fluid ? dfsphSpikyW(r) : 0.0;
+        sum += fluid ? dfsphW(r) : 0.0;
       }
   return sum;
 }
@@ -124,8 +124,8 @@ void main() {
     SPH_FOR_EACH_FLUID(j, first, last) {
       vec3 d = sphDelta(sphFetchPos(j).xyz, xb.xyz);
       float r = length(d);
-      share += psi * dfsphSpikyW(r);
-      vec3 g = psi * sphSpikyGrad(d, r);
+      share += psi * dfsphW(r);
+      vec3 g = psi * dfsphGradAt(d, r);
       // Jacobi diagonal: the row sum e_fb . sum_b' e_fb' over the samples that share particle f (they
       // push it together: with |e_fb|^2 alone, the exact diagonal, the floor's corners diverge in the
       // first substeps), at least |e_fb|^2.

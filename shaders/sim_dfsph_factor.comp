@@ -1,8 +1,8 @@
-// DFSPH step start: density (fluid: poly6, or spiky with DFSPH_SPIKY_DENSITY; Akinci 2012 boundary
-// samples: psi W with the spiky kernel, dfsphWallScale() in sph_dfsph.glsl), the factors
-// alpha_i / rho_i of both solves (Bender & Koschier 2017, eq. 9, boundary in the first sum only; gW the
-// spiky gradient; the constant-density solve's walls push DFSPH_DENSITY_WALL_PUSH times:
-// sph_dfsph.glsl), and the neighbour list every solver iteration of this substep reads. The walls'
+// DFSPH step start: density (fluid: poly6, or the DFSPH kernel with DFSPH_KERNEL_DENSITY; Akinci 2012
+// boundary samples: psi W with the DFSPH kernel, spiky or Wendland C2, dfsphWallScale() in
+// sph_dfsph.glsl), the factors alpha_i / rho_i of both solves (Bender & Koschier 2017, eq. 9, boundary in
+// the first sum only; gW the DFSPH kernel's gradient; the constant-density solve's walls push
+// DFSPH_DENSITY_WALL_PUSH times: sph_dfsph.glsl), and the neighbour list every solver iteration of this substep reads. The walls'
 // hydrostatic push, -sum_b psi_b (g . (x_b - x_i) / rho_i) grad W_ib (push walls only), goes to accel, to which the
 // non-pressure pass adds the rest of the step's acceleration. The cache's pressure is the last step's
 // density stiffness, carried in vel.w, times DFSPH_PRESSURE_SCALE (sph_dfsph.glsl).
@@ -30,8 +30,8 @@ void main() {
   if (live) {
     vec3 xi = sphFetchPos(i).xyz;
     uint n = simCounts.x, listed = 0u, blisted = 0u;
-#if defined(DFSPH_SPIKY_DENSITY)
-    const float m = simGravity.w * DFSPH_SPIKY_DENSITY;
+#if defined(DFSPH_KERNEL_DENSITY)
+    const float m = simGravity.w * DFSPH_KERNEL_DENSITY;
 #else
     const float m = simGravity.w;
 #endif
@@ -46,8 +46,8 @@ void main() {
       SPH_FOR_EACH_FLUID(j, first, last) {
         vec3 d = sphDelta(xi, sphFetchPos(j).xyz);
         float r2 = dot(d, d);
-#if defined(DFSPH_SPIKY_DENSITY)
-        fluid += dfsphSpikyW(sqrt(r2));
+#if defined(DFSPH_KERNEL_DENSITY)
+        fluid += dfsphW(sqrt(r2));
 #else
         fluid += sphPoly6(r2);
 #endif
@@ -61,9 +61,14 @@ void main() {
         vec4 b = sphFetchBoundaryPos(j);
         vec3 d = sphDelta(xi, b.xyz);
         float r2 = dot(d, d);
-        float psi = b.w * dfsphWallScale(b.xyz), r = sqrt(r2), q = max(simDomainMin.w - r, 0.0);
-        wall += psi * (-simKernel.y / 3.0) * q * q * q;  // psi dfsphSpikyW(r)
-        vec3 g = psi * sphSpikyGrad(d, r);
+        float psi = b.w * dfsphWallScale(b.xyz), r = sqrt(r2);
+#if defined(DFSPH_KERNEL_WENDLAND)
+        wall += psi * dfsphW(r);
+#else
+        float q = max(simDomainMin.w - r, 0.0);
+        wall += psi * (-simKernel.y / 3.0) * q * q * q;  // psi dfsphW(r), in this order
+#endif
+        vec3 g = psi * dfsphGradAt(d, r);
         wallGrad += g;
         hydrostatic -= dot(simGravity.xyz, d) * g;  // g . (x_b - x_i) psi_b grad W_ib
 #if defined(HAS_COLLIDERS)

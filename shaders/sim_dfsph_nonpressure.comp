@@ -70,7 +70,7 @@ void viscosityAndWarmPressure(uint i, vec3 xi, vec3 vi, float rhoi, float pi, ou
       const vec3 vb = vec3(0.0);  // walls are at rest; only colliders move
 #endif
 #if defined(VISCOSITY_ARTIFICIAL)
-      wall -= b.w * artificialViscosity(vi - vb, d, r2, 2.0 * rhoi) * sphSpikyGrad(d, r);
+      wall -= b.w * artificialViscosity(vi - vb, d, r2, 2.0 * rhoi) * dfsphGradAt(d, r);
 #else
       // As a fluid neighbour of mass psi_b and density rho_i at the wall's velocity (no slip), as in
       // sim_force.comp.

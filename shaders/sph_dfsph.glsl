@@ -41,29 +41,45 @@ layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_CONTROL) buffer DfsphControl {
 // factor pass writes each work group's density sum to partial[DFSPH_RESIDUAL_SLOTS + group], after the
 // iterations' residual sums (DFSPHSolver::residualSlots).
 
-// Kernel gradient of every DFSPH sum (density change, factor, pressure corrections): the spiky gradient
-// of the WCSPH force, whose strong short-range repulsion keeps particles off the wall samples (poly6's
-// flat centre lets them settle onto the samples and the tank compress).
-#define dfsphGrad(d) sphSpikyGrad(d, length(d))
-
-// Walls in the DFSPH density and in every DFSPH gradient sum: psi_b times the spiky kernel (the kernel
-// whose gradient the solves use) weighted by dfsphWallScale(), so that a particle pressed into a wall
-// sees its density rise steeply (9 % at 0.2 spacings from a flat wall's resting site; poly6: 1.1 %).
-// Spiky W = 15 / (pi h^6) (h - r)^3 (simKernel.y is its gradient's -45 / (pi h^6)).
-float dfsphSpikyW(float r) {
+// The DFSPH kernel: its gradient is that of every DFSPH sum (density change, factor, pressure
+// corrections), and the walls enter the DFSPH density and every gradient sum as psi_b times its W
+// weighted by dfsphWallScale().
+// Default: the spiky kernel of the WCSPH force, whose strong short-range repulsion keeps particles off
+// the wall samples (poly6's flat centre lets them settle onto the samples and the tank compress): a
+// particle pressed into a wall sees its density rise steeply (9 % at 0.2 spacings from a flat wall's
+// resting site; poly6: 1.1 %). Spiky W = 15 / (pi h^6) (h - r)^3 (simKernel.y is its gradient's -45 /
+// (pi h^6)).
+// DFSPH_KERNEL_WENDLAND (solver.dfsph.density_kernel "wendland_c2"): Wendland C2, W = DFSPH_WENDLAND_W (1
+// - q)^4 (1 + 4 q) and grad W = DFSPH_WENDLAND_GRAD (1 - q)^3 d, q = r / h, for the fluid's density too.
+// The cubic lattice sums lowest under it among the cubic, bcc and fcc packings, so a loaded column keeps
+// it (bench/lattice_sums.py); under the spiky kernel it gives way to a closer packing.
+#if defined(DFSPH_KERNEL_WENDLAND)
+float dfsphW(float r) {
+  float q = r / simDomainMin.w, t = max(1.0 - q, 0.0);
+  return DFSPH_WENDLAND_W * t * t * t * t * (1.0 + 4.0 * q);
+}
+vec3 dfsphGradAt(vec3 d, float r) {
+  float t = max(1.0 - r / simDomainMin.w, 0.0);
+  return (DFSPH_WENDLAND_GRAD * t * t * t) * d;
+}
+#else
+float dfsphW(float r) {
   float q = max(simDomainMin.w - r, 0.0);
   return (-simKernel.y / 3.0) * q * q * q;
 }
+#define dfsphGradAt(d, r) sphSpikyGrad(d, r)  // (sph_kernels.glsl, in the passes that take gradients)
+#endif
+#define dfsphGrad(d) dfsphGradAt(d, length(d))
 
 // The weights (DFSPHSolver::spikyWallScales) make the resting lattice sum to the poly6 rest density
 // next to faces, edges and corners: a sample beyond one, two or three of the domain's walls (collider
 // samples, inside the domain, count as a face). (Defined for the passes that sum over samples:
 // DFSPHSolver::factorDefines.)
-// solver.dfsph.density_kernel "spiky" (DFSPH_SPIKY_DENSITY, DFSPHSolver::spikyDensityMassScale): the
-// fluid's density is the spiky sum too, every DFSPH sum takes the particle mass times the scale and
-// every class of sample weighs the scale, so that a solve's predicted density change is the change of
-// the sum it corrects. The viscosity keeps the plain mass.
-// The stiffness totals are p / rho^2 per unit of the mass the sums take: with the spiky density's
+// solver.dfsph.density_kernel "spiky" or "wendland_c2" (DFSPH_KERNEL_DENSITY, DFSPHSolver::
+// densityMassScale): the fluid's density is the DFSPH kernel's sum too, every DFSPH sum takes the particle
+// mass times the scale and every class of sample weighs the scale, so that a solve's predicted density
+// change is the change of the sum it corrects. The viscosity keeps the plain mass.
+// The stiffness totals are p / rho^2 per unit of the mass the sums take: with the kernel density's
 // scaled mass the pressure acceleration -m' sum (P_i + P_j) grad W is SPH's -m sum (p_i / rho_i^2 + ...)
 // for p / rho^2 = (m' / m) P, so the pressure written for the cache is DFSPH_PRESSURE_SCALE (m' / m) P.
 #ifndef DFSPH_PRESSURE_SCALE

@@ -268,12 +268,17 @@ std::shared_ptr<const Object<DfsphSettings>> dfsphSchema() {
                 "run is not bit-identical to an uninterrupted one (the samples' stiffness is not in the "
                 "restart file).")
         .choice("density_kernel", &DfsphSettings::densityKernel, DfsphDensityKernel::Spiky,
-                {{"poly6", DfsphDensityKernel::Poly6}, {"spiky", DfsphDensityKernel::Spiky}},
+                {{"poly6", DfsphDensityKernel::Poly6},
+                 {"spiky", DfsphDensityKernel::Spiky},
+                 {"wendland_c2", DfsphDensityKernel::WendlandC2}},
                 "Kernel of the fluid's density sum: \"poly6\" (Mueller et al. 2003), while every gradient "
                 "of the solves is the spiky kernel's, so a solve's predicted density change is not the "
-                "change of the sum it corrects; or \"spiky\", the kernel of the gradients and of the walls, "
-                "with the particle mass scaled so that the resting lattice sums to the rest density. Needs "
-                "walls \"constraints\" (push walls with it burst in the first frame).")
+                "change of the sum it corrects; \"spiky\", the kernel of the gradients and of the walls, "
+                "with the particle mass scaled so that the resting lattice sums to the rest density; or "
+                "\"wendland_c2\", Wendland C2 for the density, every gradient of the solves and the walls, "
+                "the mass scaled the same way: a deep resting column keeps its cubic lattice, which the "
+                "spiky kernel lets give way to a denser packing. \"spiky\" and \"wendland_c2\" need walls "
+                "\"constraints\" (push walls with the spiky density burst in the first frame).")
         .number("density_wall_push", &DfsphSettings::densityWallPush, 1.5, "", Range::closed(1, 1.75),
                 "Weight of the wall samples in the constant-density solve: above 1 walls push back harder "
                 "than fluid, which keeps particles out of them. Above 1 the solve is not symmetric: in a "
@@ -764,16 +769,19 @@ void checkDfsphDepthStep(const Scene& s, const Json& raw, const std::string&) {
                           "; remove the key or use CFL mode");
 }
 
-/// DFSPH's spiky density is solved with the constraint walls only (with push walls it bursts in the first
-/// frame, design.md).
+/// DFSPH's spiky and Wendland C2 densities are solved with the constraint walls only (with push walls the
+/// spiky density bursts in the first frame, design.md).
 void checkDfsphWalls(const Scene& s, const Json&, const std::string&) {
   if (s.solver.method != Solver::DFSPH) return;
-  if (s.solver.dfsph.densityKernel == DfsphDensityKernel::Spiky &&
-      s.solver.dfsph.walls != DfsphWalls::Constraints)
+  const DfsphDensityKernel k = s.solver.dfsph.densityKernel;
+  if (k != DfsphDensityKernel::Poly6 && s.solver.dfsph.walls != DfsphWalls::Constraints)
     throw SchemaError("/solver/dfsph/density_kernel",
-                      "expected \"poly6\" with walls \"push\", got \"spiky\" (the spiky density, the "
-                      "default, needs walls \"constraints\"); set solver.dfsph.density_kernel to \"poly6\" "
-                      "or solver.dfsph.walls to \"constraints\"");
+                      fmt::format("expected \"poly6\" with walls \"push\", got \"{}\" (the {} density{} "
+                                  "needs walls \"constraints\"); set solver.dfsph.density_kernel to "
+                                  "\"poly6\" or solver.dfsph.walls to \"constraints\"",
+                                  k == DfsphDensityKernel::Spiky ? "spiky" : "wendland_c2",
+                                  k == DfsphDensityKernel::Spiky ? "spiky" : "Wendland C2",
+                                  k == DfsphDensityKernel::Spiky ? ", the default," : ""));
 }
 
 /// Emitters, kill boxes and open faces: the solver, the geometry and the particle limit.

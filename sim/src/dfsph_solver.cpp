@@ -24,10 +24,11 @@ static_assert(offsetof(DfsphControl, lastError) == 48 && offsetof(DfsphControl, 
               sizeof(DfsphControl) == 144);
 
 // Kernel sums over a cubic lattice, in units of the spacing, around the site at the origin with the
-// shaders' kernels at support `support` (poly6 and spikyKernel()), split by class: how many of the planes
-// x, y, z < 0 (the first `walls` of them, the walls next to the site (0.5, 0.5, 0.5)) a site lies beyond.
+// shaders' kernels at support `support` (poly6, spikyKernel() and wendlandKernel()), split by class: how
+// many of the planes x, y, z < 0 (the first `walls` of them, the walls next to the site (0.5, 0.5, 0.5))
+// a site lies beyond.
 struct LatticeSums {
-  std::array<double, 4> poly6{}, spiky{};
+  std::array<double, 4> poly6{}, spiky{}, wendland{};
 };
 
 LatticeSums latticeSums(double support, int walls) {
@@ -42,6 +43,7 @@ LatticeSums latticeSums(double support, int walls) {
         const double r2 = double(x * x + y * y + z * z), r = std::sqrt(r2);
         s.poly6[cls] += r2 < h2 ? k.poly6 * std::pow(h2 - r2, 3) : 0.0;
         s.spiky[cls] += spikyKernel(h, r);
+        s.wendland[cls] += wendlandKernel(h, r);
       }
   return s;
 }
@@ -55,12 +57,15 @@ ShaderDefines withDensitySolveShares(const DfsphSettings& s, ShaderDefines d) {
 }
 
 // The walls' kernel sum over a resting particle half a spacing from a flat wall (fluid.wall_contact),
-// as the factor pass sums it: psi_b times the face samples' weight times the spiky W.
+// as the factor pass sums it: psi_b times the face samples' weight times the DFSPH kernel's W.
 double wallContactRest(const Scene& scene) {
   const double h = scene.kernelRadius();
-  const double face = scene.solver.dfsph.densityKernel == DfsphDensityKernel::Spiky
-                          ? DFSPHSolver::spikyDensityMassScale(scene.solver.kernelSupport)
-                          : DFSPHSolver::spikyWallScales(scene.solver.kernelSupport)[0];
+  const DfsphDensityKernel kernel = scene.solver.dfsph.densityKernel;
+  const double face = kernel == DfsphDensityKernel::Poly6
+                          ? DFSPHSolver::spikyWallScales(scene.solver.kernelSupport)[0]
+                          : DFSPHSolver::densityMassScale(kernel, scene.solver.kernelSupport);
+  if (kernel == DfsphDensityKernel::WendlandC2)
+    return face * restWallSum(scene, [&](double r2) { return wendlandKernel(h, std::sqrt(r2)); });
   return face * restWallSum(scene, [&](double r2) { return spikyKernel(h, std::sqrt(r2)); });
 }
 
@@ -94,10 +99,10 @@ ShaderDefines DFSPHSolver::factorDefines(const Scene& scene, ShaderDefines d) {
   d.set("DFSPH_MAX_NEIGHBORS", listSlots(scene));
   d.set("DFSPH_MIN_NEIGHBOURS", float(minNeighbours(scene)));
   std::array<double, 3> wall = spikyWallScales(scene.solver.kernelSupport);
-  if (scene.solver.dfsph.densityKernel == DfsphDensityKernel::Spiky) {
+  if (scene.solver.dfsph.densityKernel != DfsphDensityKernel::Poly6) {
     // Fluid and samples on one lattice under one kernel: every class takes the mass scale.
-    const double scale = spikyDensityMassScale(scene.solver.kernelSupport);
-    d.set("DFSPH_SPIKY_DENSITY", float(scale));
+    const double scale = densityMassScale(scene.solver.dfsph.densityKernel, scene.solver.kernelSupport);
+    d.set("DFSPH_KERNEL_DENSITY", float(scale));
     wall = {scale, scale, scale};
   }
   d.set("DFSPH_WALL_SPIKY_FACE", float(wall[0]));
@@ -119,9 +124,18 @@ std::array<double, 3> DFSPHSolver::spikyWallScales(double support) {
   return c;
 }
 
-double DFSPHSolver::spikyDensityMassScale(double support) {
+double DFSPHSolver::densityMassScale(DfsphDensityKernel kernel, double support) {
+  if (kernel == DfsphDensityKernel::Poly6) return 1.0;
   const LatticeSums s = latticeSums(support, 0);  // a full lattice: every site in class 0
-  return s.poly6[0] / s.spiky[0];
+  return s.poly6[0] / (kernel == DfsphDensityKernel::WendlandC2 ? s.wendland[0] : s.spiky[0]);
+}
+
+ShaderDefines DFSPHSolver::kernelDefines(const Scene& scene, ShaderDefines d) {
+  if (scene.solver.dfsph.densityKernel != DfsphDensityKernel::WendlandC2) return d;
+  const WendlandFactors w = wendlandFactors(scene.kernelRadius());
+  return d.set("DFSPH_KERNEL_WENDLAND")
+      .set("DFSPH_WENDLAND_W", float(w.density))
+      .set("DFSPH_WENDLAND_GRAD", float(w.gradient));
 }
 
 uint32_t DFSPHSolver::listedSamples(const Scene& scene, uint32_t boundarySamples) {
@@ -142,8 +156,9 @@ ShaderDefines DFSPHSolver::wallDefines(const Scene& scene, ShaderDefines d) {
   d.set("DFSPH_BOUNDARY_CONSTRAINTS");
   d.set("DFSPH_MAX_NEIGHBORS", listSlots(scene));  // the apply and non-pressure passes read wall entries
   d.set("DFSPH_SPACING", float(scene.fluid.spacing));
-  if (scene.solver.dfsph.densityKernel == DfsphDensityKernel::Spiky)  // (it needs these walls)
-    d.set("DFSPH_PRESSURE_SCALE", float(spikyDensityMassScale(scene.solver.kernelSupport)));
+  if (scene.solver.dfsph.densityKernel != DfsphDensityKernel::Poly6)  // (it needs these walls)
+    d.set("DFSPH_PRESSURE_SCALE",
+          float(densityMassScale(scene.solver.dfsph.densityKernel, scene.solver.kernelSupport)));
   // The samples' rest shares (sim_dfsph_boundary_factor.comp): lattice sites up to this many spacings out.
   d.set("DFSPH_REST_REACH", int(std::ceil(scene.solver.kernelSupport - 1e-9)));
   if (!scene.colliders.empty())  // recomputed every substep
@@ -190,13 +205,12 @@ DFSPHSolver::DFSPHSolver(const Scene& scene, const DispatchGate& gate, const Sha
       groups_(particleGroups(particles)),
       closedPeriodic_(closedPeriodic(scene, particles)),
       residualSlots_(residualSlots(plainDefines, particles)),
-      defines_(
-          withWallContact(
-              scene, wallContactRest(scene),
-              closedPeriodic_
-                  ? wallDefines(scene, plainDefines).set("DFSPH_CLOSED_PERIODIC").set("DFSPH_GROUPS", groups_)
-                  : wallDefines(scene, plainDefines))
-              .set("DFSPH_RESIDUAL_SLOTS", residualSlots_)),
+      defines_(withWallContact(scene, wallContactRest(scene),
+                               closedPeriodic_ ? wallDefines(scene, kernelDefines(scene, plainDefines))
+                                                     .set("DFSPH_CLOSED_PERIODIC")
+                                                     .set("DFSPH_GROUPS", groups_)
+                                               : wallDefines(scene, kernelDefines(scene, plainDefines)))
+                   .set("DFSPH_RESIDUAL_SLOTS", residualSlots_)),
       listSlots_(listSlots(scene)),
       boundaryEntry_(boundaryEntry),
       boundarySamples_(boundarySamples),

@@ -86,8 +86,8 @@ class DFSPHSolver : public PressureSolver {
 
   /// `defines` plus what sim_dfsph_factor.comp needs for `scene`: the list slots, the neighbour count
   /// below which a particle gets no divergence correction (a divergence factor of 0), the walls'
-  /// spiky density weights (spikyWallScales()) and, with the spiky density, its mass scale
-  /// (spikyDensityMassScale(), which the weights then take).
+  /// spiky density weights (spikyWallScales()) and, with the spiky or Wendland C2 density, its mass
+  /// scale (densityMassScale(), which the weights then take).
   static ShaderDefines factorDefines(const Scene& scene, ShaderDefines defines);
   /// `defines` plus what the four programs of one solve need (sim_dfsph_begin/source/reduce/apply):
   /// the tolerances, iteration limits, relaxation (jacobiRelaxation()), momentum and warm share of
@@ -124,11 +124,15 @@ class DFSPHSolver : public PressureSolver {
   /// `defines` plus what sim_dfsph_nonpressure.comp needs (the density solve's warm share, wall push).
   static ShaderDefines nonPressureDefines(const DfsphSettings& settings, ShaderDefines defines);
 
-  /// With solver.dfsph.density_kernel "spiky": the factor on the particle mass in the DFSPH density and
-  /// gradient sums, the poly6 lattice sum over the spiky one at kernel support `support` (spacings), so
-  /// that the resting lattice sums to the rest density (0.817 at 2); the samples' weights take it too.
-  /// Throws nothing.
-  static double spikyDensityMassScale(double support);
+  /// The factor on the particle mass in the DFSPH density and gradient sums under solver.dfsph.
+  /// density_kernel `kernel` "spiky" or "wendland_c2" (the kernel of the density, of every gradient of
+  /// the solves and of the walls): the poly6 lattice sum over that kernel's at kernel support `support`
+  /// (spacings), so that the resting lattice sums to the rest density (spiky 0.817, Wendland C2 0.977 at
+  /// 2); the samples' weights take it too. 1 for "poly6". Throws nothing.
+  static double densityMassScale(DfsphDensityKernel kernel, double support);
+  /// `defines` plus, with solver.dfsph.density_kernel "wendland_c2", the kernel's switch and factors for
+  /// every DFSPH pass (DFSPH_KERNEL_WENDLAND, sph_dfsph.glsl). Throws nothing.
+  static ShaderDefines kernelDefines(const Scene& scene, ShaderDefines defines);
   /// Weights of the wall samples' spiky density term, by how many of the domain's walls a sample lies
   /// beyond: [0] one (faces; also every collider sample), [1] two (edges), [2] three (corners). The walls
   /// enter the DFSPH density with the spiky kernel, the kernel whose gradient the solves use, so that a

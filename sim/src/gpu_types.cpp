@@ -31,11 +31,13 @@ bool usesWendland(const Scene& scene) {
 double densityKernel(const Scene& scene, double r2) {
   const double h = scene.kernelRadius();
   if (r2 >= h * h) return 0;
-  if (usesWendland(scene)) {
-    const double q = std::sqrt(r2) / h;
-    return wendlandFactors(h).density * std::pow(1 - q, 4) * (1 + 4 * q);
-  }
+  if (usesWendland(scene)) return wendlandKernel(h, std::sqrt(r2));
   return kernelFactors(h).poly6 * std::pow(h * h - r2, 3);
+}
+
+double wendlandKernel(double h, double r) {
+  const double q = r / h;
+  return q < 1 ? wendlandFactors(h).density * std::pow(1 - q, 4) * (1 + 4 * q) : 0.0;
 }
 
 double spikyKernel(double h, double r) {

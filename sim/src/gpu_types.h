@@ -104,6 +104,9 @@ double densityKernel(const Scene& scene, double r2);
 /// shaders use (0 beyond h).
 double spikyKernel(double h, double r);
 
+/// The Wendland C2 kernel W(r) = 21 / (2 pi h^3) (1 - r / h)^4 (1 + 4 r / h) for support h (0 beyond h).
+double wendlandKernel(double h, double r);
+
 /// Neighbours within q spacings of a particle in a full cubic lattice, itself left out: 26 at q = 2.
 int latticeNeighbours(double q);
 

@@ -309,6 +309,25 @@ TEST(Scene, DfsphWarmStepsOnlyWithAWarmShare) {
   EXPECT_EQ(sceneToJson(all)["solver"]["dfsph"]["density_warm_steps"], "all");
 }
 
+// DFSPH's spiky and Wendland C2 densities are solved with the constraint walls only: with push walls the
+// scene is refused at density_kernel, naming the kernel; the poly6 density takes push walls.
+TEST(Scene, DfsphKernelDensitiesNeedConstraintWalls) {
+  Json raw = minimal();
+  raw["solver"]["method"] = "dfsph";
+  raw["solver"]["dfsph"]["walls"] = "push";
+  for (const char* kernel : {"spiky", "wendland_c2"}) {
+    raw["solver"]["dfsph"]["density_kernel"] = kernel;
+    const std::string error = errorOf(raw);
+    EXPECT_NE(error.find("/solver/dfsph/density_kernel"), std::string::npos) << error;
+    EXPECT_NE(error.find(std::string("got \"") + kernel + "\""), std::string::npos) << error;
+  }
+  raw["solver"]["dfsph"]["density_kernel"] = "poly6";
+  EXPECT_EQ(parseScene(raw, "x.json").solver.dfsph.densityKernel, DfsphDensityKernel::Poly6);
+  raw["solver"]["dfsph"]["walls"] = "constraints";
+  raw["solver"]["dfsph"]["density_kernel"] = "wendland_c2";
+  EXPECT_EQ(parseScene(raw, "x.json").solver.dfsph.densityKernel, DfsphDensityKernel::WendlandC2);
+}
+
 // solver.dfsph.depth_step_factor caps DFSPH's CFL step at factor d / sqrt(|g| H), H the domain's extent
 // along gravity (here tilted: 0.6 g along y and 0.8 g along x), and only there: factor 0, WCSPH and fixed
 // steps have no cap. A scene without the key keeps its identity (the runs before the key existed).

@@ -125,9 +125,8 @@ void expectListsMatchBruteForce(const Scene& scene, uint32_t n, uint32_t seed) {
   const FactorLists r = runFactorPass(scene, items);
   EXPECT_EQ(r.failure, 0u);
   // The sums' mass: the spiky density's scales the particle mass (sph_dfsph.glsl).
-  const double massScale = scene.solver.dfsph.densityKernel == DfsphDensityKernel::Spiky
-                               ? DFSPHSolver::spikyDensityMassScale(scene.solver.kernelSupport)
-                               : 1.0;
+  const double massScale =
+      DFSPHSolver::densityMassScale(scene.solver.dfsph.densityKernel, scene.solver.kernelSupport);
   const double h = scene.kernelRadius(), m = calibratedParticleMass(scene) * massScale;
   const double spiky = kernelFactors(h).spikyGradient;
   const float h2 = float(h * h);
@@ -248,27 +247,32 @@ TEST_F(DFSPH, HydrostaticTankReachesRestDensityAndPressureProfile) {
   EXPECT_LT(vmax, 0.3) << "the tank should be nearly at rest";
 }
 
-// The walls enter the DFSPH density with the spiky kernel, weighted per sample class (faces, edges,
-// corners: DFSPHSolver::spikyWallScales) so that the resting lattice is at rest density everywhere. The
-// tank's starting lattice touches five walls; every particle below the free-surface rows, corners and
-// edges included, must start at rho0 as the factor pass sums it on the GPU. With the face weight
-// everywhere, edges start 0.6 % and corners 1.7 % compressed.
+// The walls enter the DFSPH density with the DFSPH kernel, weighted per sample class (faces, edges,
+// corners: DFSPHSolver::spikyWallScales under the poly6 density; the mass scale,
+// DFSPHSolver::densityMassScale, under the spiky and Wendland C2 densities, whose fluid and samples sum on
+// one lattice under one kernel) so that the resting lattice is at rest density everywhere. The tank's
+// starting lattice touches five walls; every particle below the free-surface rows, corners and edges
+// included, must start at rho0 as the factor pass sums it on the GPU. With the face weight everywhere
+// (poly6 density), edges start 0.6 % and corners 1.7 % compressed.
 TEST_F(DFSPH, WallsKeepTheRestingLatticeAtRestDensity) {
   const std::array<double, 3> c = DFSPHSolver::spikyWallScales(2.0);
   EXPECT_GT(c[0], 1.3);  // the spiky kernel sums lower than poly6 over a wall half space at h = 2 d
-  const Scene s = scene("hydrostatic.json", {"fluid.spacing=0.02"});
-  Simulator sim(s);
-  const ParticleFrame f = sim.cacheFrame();
-  const double height = 0.3, h = s.kernelRadius(), rho0 = s.fluid.restDensity;
-  int checked = 0;
-  double worst = 0;
-  for (size_t i = 0; i < f.size(); ++i) {
-    if (f.position[i][1] > height - h) continue;  // free-surface rows lack neighbours
-    worst = std::max(worst, std::abs(f.density[i] / rho0 - 1));
-    ++checked;
+  for (const char* kernel : {"spiky", "wendland_c2"}) {
+    const Scene s = scene("hydrostatic.json",
+                          {"fluid.spacing=0.02", std::string("solver.dfsph.density_kernel=") + kernel});
+    Simulator sim(s);
+    const ParticleFrame f = sim.cacheFrame();
+    const double height = 0.3, h = s.kernelRadius(), rho0 = s.fluid.restDensity;
+    int checked = 0;
+    double worst = 0;
+    for (size_t i = 0; i < f.size(); ++i) {
+      if (f.position[i][1] > height - h) continue;  // free-surface rows lack neighbours
+      worst = std::max(worst, std::abs(f.density[i] / rho0 - 1));
+      ++checked;
+    }
+    EXPECT_GT(checked, 1000) << kernel;
+    EXPECT_LT(worst, 1e-4) << kernel << ": largest relative deviation from rest density at the start";
   }
-  EXPECT_GT(checked, 1000);
-  EXPECT_LT(worst, 1e-4) << "largest relative deviation from rest density at the start";
 }
 
 // A column in the middle of a tank collapses toward both side walls z = -0.145 and 0.145 m, an extent of

@@ -23,7 +23,7 @@ enum class SphKernel { WendlandC2, Muller2003 };
 /// How DFSPH's walls enter the constant-density solve (solver.dfsph.walls).
 enum class DfsphWalls { Push, Constraints };
 /// The fluid's density kernel under DFSPH (solver.dfsph.density_kernel).
-enum class DfsphDensityKernel { Poly6, Spiky };
+enum class DfsphDensityKernel { Poly6, Spiky, WendlandC2 };
 /// The substeps whose constant-density solve starts warm (solver.dfsph.density_warm_steps).
 enum class DfsphWarmSteps { All, FlowLimited };
 enum class ViscosityModel { None, Laplacian, Artificial };
