@@ -2,7 +2,8 @@
 // boundary samples: psi W with the DFSPH kernel, spiky or Wendland C2, dfsphWallScale() in
 // sph_dfsph.glsl), the factors alpha_i / rho_i of both solves (Bender & Koschier 2017, eq. 9, boundary in
 // the first sum only; gW the DFSPH kernel's gradient; the constant-density solve's walls push
-// DFSPH_DENSITY_WALL_PUSH times: sph_dfsph.glsl), and the neighbour list every solver iteration of this substep reads. The walls'
+// DFSPH_DENSITY_WALL_PUSH times: sph_dfsph.glsl), and the neighbour list every solver iteration of this
+// substep reads. The walls'
 // hydrostatic push, -sum_b psi_b (g . (x_b - x_i) / rho_i) grad W_ib (push walls only), goes to accel, to which the
 // non-pressure pass adds the rest of the step's acceleration. The cache's pressure is the last step's
 // density stiffness, carried in vel.w, times DFSPH_PRESSURE_SCALE (sph_dfsph.glsl).

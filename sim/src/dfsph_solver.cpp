@@ -184,6 +184,15 @@ namespace {
 uint32_t particleGroups(uint32_t particles) {
   return std::max<uint32_t>(1, (particles + kSimWorkGroup - 1) / kSimWorkGroup);
 }
+
+// The defines every DFSPH pass shares: the kernel's, the walls', and in a closed periodic domain its
+// switch and the factor pass's work groups (DFSPHSolver::closedPeriodic).
+ShaderDefines sharedDefines(const Scene& scene, const ShaderDefines& plainDefines, bool closedPeriodic,
+                            uint32_t groups) {
+  ShaderDefines d = DFSPHSolver::wallDefines(scene, DFSPHSolver::kernelDefines(scene, plainDefines));
+  if (closedPeriodic) d.set("DFSPH_CLOSED_PERIODIC").set("DFSPH_GROUPS", groups);
+  return d;
+}
 }  // namespace
 
 uint32_t DFSPHSolver::residualSlots(const ShaderDefines& plainDefines, uint32_t particles) {
@@ -206,10 +215,7 @@ DFSPHSolver::DFSPHSolver(const Scene& scene, const DispatchGate& gate, const Sha
       closedPeriodic_(closedPeriodic(scene, particles)),
       residualSlots_(residualSlots(plainDefines, particles)),
       defines_(withWallContact(scene, wallContactRest(scene),
-                               closedPeriodic_ ? wallDefines(scene, kernelDefines(scene, plainDefines))
-                                                     .set("DFSPH_CLOSED_PERIODIC")
-                                                     .set("DFSPH_GROUPS", groups_)
-                                               : wallDefines(scene, kernelDefines(scene, plainDefines)))
+                               sharedDefines(scene, plainDefines, closedPeriodic_, groups_))
                    .set("DFSPH_RESIDUAL_SLOTS", residualSlots_)),
       listSlots_(listSlots(scene)),
       boundaryEntry_(boundaryEntry),
