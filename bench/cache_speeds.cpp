@@ -177,9 +177,9 @@ void reportLayerMotion(const sphfx::ParticleFrame& f, const std::vector<size_t>&
 }
 
 // Layers of floorCount particles by height: the bottom layer above the floor, the mean gap between
-// neighbouring layers in the lower, middle and upper third of the column, and the top layer's gap; with
-// each part's lattice order and motion; with a cached `density`, each part's mean density, which says how
-// much of the gaps' compression the solver's density sum sees.
+// neighbouring layers in the lower, middle and upper third of the column, and the top layer's gap;
+// each part's lattice order and motion; and with a cached `density`, each part's mean density, which says
+// how much of the gaps' compression the solver's density sum sees.
 void reportLayers(const sphfx::Domain& w, const sphfx::ParticleFrame& f) {
   const double s = f.particleSpacing;
   const auto floorCount = size_t(std::lround((w.max[0] - w.min[0]) * (w.max[2] - w.min[2]) / (s * s)));
