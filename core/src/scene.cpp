@@ -148,7 +148,9 @@ std::shared_ptr<const Object<Fluid>> fluidSchema() {
         .number(
             "artificial_viscosity", &Fluid::artificialViscosity, 0.02, "", Range::closed(0, 10),
             "Monaghan alpha for the artificial model: nu = 2 alpha h c / (rho_i + rho_j) between particles "
-            "(the walls use wall_viscosity_speed in place of alpha c).")
+            "(the walls use wall_viscosity_speed in place of alpha c). In CFL mode the step is capped at 2 / "
+            "the term's largest decay rate on the resting lattice, proportional to alpha c / h "
+            "(docs/simulation.md, Time step).")
         .onlyWhen([](const Fluid& f) { return f.viscosityModel == ViscosityModel::Artificial; },
                   "artificial model")
         .number("wall_viscosity_factor", &Fluid::wallViscosityFactor, 1.0, "", Range::closed(0, 10),
@@ -248,7 +250,8 @@ std::shared_ptr<const Object<DfsphSettings>> dfsphSchema() {
                 {{"all", DfsphWarmSteps::All}, {"flow_limited", DfsphWarmSteps::FlowLimited}},
                 "The substeps whose constant-density solve starts warm: \"all\"; or \"flow_limited\", "
                 "only those after a substep whose step the flow set (CFL mode: the speed, fall or viscous "
-                "limit below time.dt_max and depth_step_factor's cap). Water at rest, which the cap steps, "
+                "limit below time.dt_max, depth_step_factor's cap and the artificial viscosity's bound). "
+                "Water at rest, which the cap steps, "
                 "then starts every solve cold and gives the same caches as density_warm_share 0, while "
                 "fast flow keeps the warm start's fewer iterations. The first substep of each frame and "
                 "every fixed step start cold.")

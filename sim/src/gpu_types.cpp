@@ -4,9 +4,11 @@
 #include <cmath>
 #include <cstdlib>
 #include <functional>
+#include <limits>
 #include <numbers>
 #include <string>
 
+#include "dfsph_solver.h"
 #include "sphfx/core/collider_motion.h"
 #include "sphfx/core/error.h"
 #include "sphfx/gpu/gl.h"
@@ -71,6 +73,79 @@ ShaderDefines withWallContact(const Scene& scene, double restSum, ShaderDefines 
   defines.set("SIM_WALL_CONTACT", float(share * latticeNeighbours(scene.solver.kernelSupport)));
   defines.set("SIM_WALL_CONTACT_REST", float(restSum));
   return defines;
+}
+
+namespace {
+
+/// The largest eigenvalue of the symmetric 3x3 matrix {xx, yy, zz, xy, xz, yz} (the trigonometric
+/// closed form of the characteristic cubic's roots).
+double largestEigenvalue(const std::array<double, 6>& a) {
+  const double off = a[3] * a[3] + a[4] * a[4] + a[5] * a[5];
+  if (off == 0) return std::max({a[0], a[1], a[2]});
+  const double q = (a[0] + a[1] + a[2]) / 3;
+  const double p =
+      std::sqrt(((a[0] - q) * (a[0] - q) + (a[1] - q) * (a[1] - q) + (a[2] - q) * (a[2] - q) + 2 * off) / 6);
+  const double b0 = (a[0] - q) / p, b1 = (a[1] - q) / p, b2 = (a[2] - q) / p;
+  const double b3 = a[3] / p, b4 = a[4] / p, b5 = a[5] / p;
+  const double det = b0 * (b1 * b2 - b5 * b5) - b3 * (b3 * b2 - b5 * b4) + b4 * (b3 * b5 - b1 * b4);
+  const double phi = std::acos(std::clamp(det / 2, -1.0, 1.0)) / 3;
+  return q + 2 * p * std::cos(phi);
+}
+
+}  // namespace
+
+double artificialViscosityRate(const Scene& scene) {
+  const double alpha = scene.fluid.artificialViscosity;
+  if (scene.fluid.viscosityModel != ViscosityModel::Artificial || alpha <= 0) return 0;
+  const double s = scene.fluid.spacing, h = scene.kernelRadius(), rho0 = scene.fluid.restDensity;
+  const bool dfsph = scene.solver.method == Solver::DFSPH;
+  const DfsphDensityKernel densityKernel = scene.solver.dfsph.densityKernel;
+  const bool wendland = dfsph ? densityKernel == DfsphDensityKernel::WendlandC2 : usesWendland(scene);
+  double mass = calibratedParticleMass(scene);  // the mass the gradient sums take
+  if (dfsph) mass *= DFSPHSolver::densityMassScale(densityKernel, scene.solver.kernelSupport);
+  const double nu = alpha * h * scene.soundSpeed() / rho0;
+  const WendlandFactors w = wendlandFactors(h);
+  const KernelFactors k = kernelFactors(h);
+  auto minusGradOverR = [&](double r) {  // F = -W'(r) / r
+    return wendland ? -w.gradient * std::pow(1 - r / h, 3) : -k.spikyGradient * (h - r) * (h - r) / r;
+  };
+  struct Site {
+    double x[3], weight;  // weight m nu F / (r^2 + 0.01 h^2): the site's matrix is weight x x^T
+  };
+  std::vector<Site> sites;
+  const int n = int(std::ceil(h / s));
+  for (int i = -n; i <= n; ++i)
+    for (int j = -n; j <= n; ++j)
+      for (int l = -n; l <= n; ++l) {
+        const double r2 = s * s * double(i * i + j * j + l * l);
+        if (r2 == 0 || r2 >= h * h) continue;
+        sites.push_back(
+            {{i * s, j * s, l * s}, mass * nu * minusGradOverR(std::sqrt(r2)) / (r2 + 0.01 * h * h)});
+      }
+  // Modes k = pi / s (a, b, c) / N over the irreducible part of the Brillouin zone (the lattice's
+  // permutations and reflections map the rest onto it); each mode's rate is its matrix's largest
+  // eigenvalue, sum_j weight_j (1 - cos k . x_j) x_j x_j^T.
+  constexpr int N = 8;
+  double rate = 0;
+  for (int a = 0; a <= N; ++a)
+    for (int b = 0; b <= a; ++b)
+      for (int c = 0; c <= b; ++c) {
+        const double kx = std::numbers::pi / s * a / N, ky = std::numbers::pi / s * b / N,
+                     kz = std::numbers::pi / s * c / N;
+        std::array<double, 6> m{};
+        for (const Site& site : sites) {
+          const double* x = site.x;
+          const double f = site.weight * (1 - std::cos(kx * x[0] + ky * x[1] + kz * x[2]));
+          m[0] += f * x[0] * x[0];
+          m[1] += f * x[1] * x[1];
+          m[2] += f * x[2] * x[2];
+          m[3] += f * x[0] * x[1];
+          m[4] += f * x[0] * x[2];
+          m[5] += f * x[1] * x[2];
+        }
+        rate = std::max(rate, largestEigenvalue(m));
+      }
+  return rate * std::max(1.0, scene.wallViscosityMultiple());
 }
 
 double calibratedParticleMass(const Scene& scene) {
@@ -164,7 +239,12 @@ SimParams makeSimParams(const Scene& scene, uint32_t particles, uint32_t boundar
                                                          : scene.solver.wcsph.forceFactor);
   p.step[3] = fixed ? float(scene.time.dt) : 0.0f;
   p.limits[0] = float(scene.time.dtMin);
-  p.limits[1] = float(std::min(scene.time.dtMax, scene.dfsphDepthStep()));
+  // The step cap: dt_max, DFSPH's depth step and the artificial viscosity's explicit bound 2 / rate
+  // (WCSPH's acoustic step, ~h / c, is below the bound for alpha up to about 1).
+  const double viscosityRate = artificialViscosityRate(scene);
+  const double viscosityStep =
+      viscosityRate > 0 ? 2 / viscosityRate : std::numeric_limits<double>::infinity();
+  p.limits[1] = float(std::min({scene.time.dtMax, scene.dfsphDepthStep(), viscosityStep}));
   p.limits[2] = float(scene.health.maxDensityRatio * rho0);
   p.limits[3] = float(scene.health.maxSpeed);
   p.counts[0] = particles;

@@ -120,6 +120,16 @@ double restWallSum(const Scene& scene, const std::function<double(double)>& kern
 /// SIM_WALL_CONTACT_REST, `restSum`: restWallSum() with the solver's wall kernel and weights.
 ShaderDefines withWallContact(const Scene& scene, double restSum, ShaderDefines defines);
 
+/// The largest decay rate (1/s) of Monaghan's artificial viscosity (fluid.artificial_viscosity, the
+/// viscosity passes' artificialViscosity()) on the resting cubic lattice: 0 for other viscosity models
+/// or alpha = 0. The term is linearised with its approaching-only switch left out (the switch only drops
+/// damping), a_i = -sum_j m nu F(r) r^2 / (r^2 + 0.01 h^2) (x^ x^T)(v_i - v_j) with F = -W'(r) / r of the
+/// solver's gradient kernel, m the mass its sums take and nu = alpha h c / rho0, and maximised over the
+/// velocity modes e exp(i k . x) of the lattice; the walls' term multiplies it by
+/// max(1, Scene::wallViscosityMultiple()). An explicit step above 2 / rate lets the term amplify the mode
+/// it should damp.
+double artificialViscosityRate(const Scene& scene);
+
 /// Particle mass that puts the initial cubic lattice exactly at rest density with the scene's density kernel:
 /// rho0 / sum_j W(x_j) over the lattice. (The nominal rho0 spacing^3 is a few percent off at h = 2
 /// spacings, which would compress or expand the fluid in the first steps.)

@@ -2,9 +2,15 @@
 // density: checked by numerical quadrature, independent of the GPU code.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
 
 #include "boundary_akinci2012.h"
+#include "dfsph_solver.h"
 #include "gpu_types.h"
 #include "sim_test_util.h"
 #include "sphfx/core/scene.h"
@@ -166,4 +172,88 @@ TEST(Kernels, CalibratedMassFollowsTheSolversDensityKernel) {
     EXPECT_NEAR(masses[k++], nominal, 0.1 * nominal);
   }
   EXPECT_GT(std::fabs(masses[0] - masses[1]), 1e-3 * masses[0]);
+}
+
+// sim::artificialViscosityRate() against a brute-force spectral radius: the linearised artificial term,
+// a_i = -sum_j m nu F(r) / (r^2 + 0.01 h^2) (x_ij x_ij^T)(v_i - v_j), applied as an operator to a velocity
+// field on an 8^3 periodic lattice (its gradient F = -W'(r) / r taken here by central differences of the
+// kernel), and its largest eigenvalue found by power iteration from a random field. The periodic lattice
+// holds the modes k = pi / s (a, b, c) / 4, a subset of the function's grid, so its rate is at most the
+// function's; both must agree within 1 %. The step cap is 2 / rate where it binds.
+TEST(Kernels, ArtificialViscosityRateIsTheLinearisedTermsSpectralRadius) {
+  struct Case {
+    const char* solver;  // the scene's "solver" object
+    bool wendland;       // its gradient kernel is Wendland C2 (else spiky)
+  };
+  for (const Case& c : {Case{R"({"method": "dfsph"})", false},
+                        Case{R"({"method": "dfsph", "dfsph": {"density_kernel": "wendland_c2"}})", true},
+                        Case{R"({"method": "wcsph"})", true}}) {
+    const Scene scene =
+        test::sceneFromJson(std::string(R"({"fluid": {"spacing": 0.01, "artificial_viscosity": 0.3,
+        "blocks": [{"min": [0,0,0], "max": [0.2,0.2,0.2]}]}, "solver": )") +
+                            c.solver + "}");
+    const double s = scene.fluid.spacing, h = scene.kernelRadius();
+    const bool wendland = c.wendland;
+    double mass = sim::calibratedParticleMass(scene);
+    if (scene.solver.method == Solver::DFSPH)
+      mass *=
+          sim::DFSPHSolver::densityMassScale(scene.solver.dfsph.densityKernel, scene.solver.kernelSupport);
+    const double nu = scene.fluid.artificialViscosity * h * scene.soundSpeed() / scene.fluid.restDensity;
+    auto kernel = [&](double r) { return wendland ? sim::wendlandKernel(h, r) : sim::spikyKernel(h, r); };
+    auto weight = [&](double r) {
+      const double e = 1e-6 * h, slope = (kernel(r + e) - kernel(r - e)) / (2 * e);
+      return mass * nu * (-slope / r) / (r * r + 0.01 * h * h);
+    };
+    constexpr int P = 8, n = 2;                  // lattice cells per axis; offsets within h = 2 s
+    std::vector<std::array<double, 4>> offsets;  // x, y, z, weight
+    for (int i = -n; i <= n; ++i)
+      for (int j = -n; j <= n; ++j)
+        for (int l = -n; l <= n; ++l) {
+          const double r = s * std::sqrt(double(i * i + j * j + l * l));
+          if (r > 0 && r < h) offsets.push_back({double(i), double(j), double(l), weight(r)});
+        }
+    auto site = [](int i, int j, int l) { return size_t(((i + P) % P * P + (j + P) % P) * P + (l + P) % P); };
+    std::vector<std::array<double, 3>> v(P * P * P), av(v.size());
+    std::srand(7);
+    for (auto& x : v)
+      for (double& c3 : x) c3 = double(std::rand()) / RAND_MAX - 0.5;
+    double rate = 0;
+    for (int iteration = 0; iteration < 400; ++iteration) {
+      for (int i = 0; i < P; ++i)
+        for (int j = 0; j < P; ++j)
+          for (int l = 0; l < P; ++l) {
+            const size_t a = site(i, j, l);
+            std::array<double, 3> sum{};
+            for (const auto& o : offsets) {
+              const size_t b = site(i + int(o[0]), j + int(o[1]), l + int(o[2]));
+              const double x[3] = {o[0] * s, o[1] * s, o[2] * s};
+              double dot = 0;
+              for (int k = 0; k < 3; ++k) dot += x[k] * (v[a][size_t(k)] - v[b][size_t(k)]);
+              for (int k = 0; k < 3; ++k) sum[size_t(k)] += o[3] * dot * x[k];
+            }
+            av[a] = sum;
+          }
+      double norm2 = 0, dot = 0;
+      for (size_t a = 0; a < v.size(); ++a)
+        for (size_t k = 0; k < 3; ++k) {
+          norm2 += av[a][k] * av[a][k];
+          dot += av[a][k] * v[a][k];
+        }
+      double vnorm2 = 0;
+      for (const auto& x : v)
+        for (double c3 : x) vnorm2 += c3 * c3;
+      rate = dot / vnorm2;  // the Rayleigh quotient
+      for (size_t a = 0; a < v.size(); ++a)
+        for (size_t k = 0; k < 3; ++k) v[a][k] = av[a][k] / std::sqrt(norm2);
+    }
+    const double computed = sim::artificialViscosityRate(scene);
+    std::printf("solver %s: rate %.1f 1/s (brute force %.1f 1/s)\n", c.solver, computed, rate);
+    EXPECT_GE(computed, rate * (1 - 1e-6));
+    EXPECT_NEAR(computed, rate, 0.01 * rate);
+    const sim::SimParams p = sim::makeSimParams(scene, 1, 0, 1);
+    EXPECT_LE(p.limits[1], float(2 / computed));
+  }
+  Scene laplacian = test::sceneFromJson(R"({"fluid": {"viscosity_model": "laplacian", "viscosity": 1e-6,
+      "blocks": [{"min": [0,0,0], "max": [0.2,0.2,0.2]}]}})");
+  EXPECT_EQ(sim::artificialViscosityRate(laplacian), 0.0);
 }
