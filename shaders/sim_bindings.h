@@ -1,4 +1,4 @@
-/* Binding points of the simulation stage (shader storage 0-29, uniform block SPHFX_UBO_SIM_PARAMS).
+/* Binding points of the simulation stage (shader storage 0-30, uniform block SPHFX_UBO_SIM_PARAMS).
  * Preprocessor-only; included by bindings.h. C++ mirrors: sim/include/sphfx/sim/gpu_types.h. */
 #ifndef SPHFX_SIM_BINDINGS_H
 #define SPHFX_SIM_BINDINGS_H
@@ -35,6 +35,7 @@
 #define SPHFX_SSBO_SIM_DFSPH_BOUNDARY 22  /* vec4 per sorted particle: sum psi grad W, sum psi v_b . grad W */
 #define SPHFX_SSBO_SIM_DFSPH_COUNT 23     /* uint per sorted particle: fluid neighbours in the list */
 #define SPHFX_SSBO_SIM_DFSPH_WET 29       /* constraint walls: dispatch arguments, count, the samples near fluid */
+#define SPHFX_SSBO_SIM_DFSPH_PRESSURE_IMPULSE 30 /* float per particle id: the frame's pressure impulse */
 
 /* Varying particle counts (scenes with emitters, kill boxes or open faces; sph_dynamic.glsl) */
 #define SPHFX_SSBO_SIM_DYNAMIC 24         /* SimDynamic: live count, next id, layers emitted per emitter */

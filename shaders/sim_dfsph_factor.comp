@@ -5,8 +5,10 @@
 // DFSPH_DENSITY_WALL_PUSH times: sph_dfsph.glsl), and the neighbour list every solver iteration of this
 // substep reads. The walls'
 // hydrostatic push, -sum_b psi_b (g . (x_b - x_i) / rho_i) grad W_ib (push walls only), goes to accel, to which the
-// non-pressure pass adds the rest of the step's acceleration. The cache's pressure is the last step's
-// density stiffness, carried in vel.w, times DFSPH_PRESSURE_SCALE (sph_dfsph.glsl).
+// non-pressure pass adds the rest of the step's acceleration. The cache's pressure: with
+// DFSPH_PRESSURE_MEAN, the pass at the frame's end (uFrameEnd 1) writes the frame's mean, the summed
+// impulse (sim_dfsph_pressure_mean.comp) over DFSPH_FRAME_SECONDS, and clears the sum; otherwise the last
+// step's density stiffness, carried in vel.w, times DFSPH_PRESSURE_SCALE (sph_dfsph.glsl).
 // Reduces the largest density (health).
 #define DFSPH_LIST_WRITE
 #include "sph_params.glsl"
@@ -16,6 +18,10 @@
 layout(local_size_x = SIM_WG) in;
 layout(std430, binding = SPHFX_SSBO_SIM_DENSITY) writeonly buffer SimDensity { vec2 densityPressure[]; };
 layout(std430, binding = SPHFX_SSBO_SIM_ACCEL) writeonly buffer SimAccel { vec4 accel[]; };
+#if defined(DFSPH_PRESSURE_MEAN)
+layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_PRESSURE_IMPULSE) buffer DfsphPressureImpulse { float impulse[]; };
+uniform uint uFrameEnd;
+#endif
 #if defined(DFSPH_CLOSED_PERIODIC)
 layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_PARTIAL) writeonly buffer DfsphPartial { float partial[]; };
 shared float groupDensity[SIM_WG];  // a fixed-order tree, so the mean is deterministic
@@ -107,7 +113,15 @@ void main() {
     bool surface = float(listed) + boundaryNeighbours < DFSPH_MIN_NEIGHBOURS;
     dfsph[i] = vec4(density > 1e-6 ? 1.0 / density : 0.0,
                     surface || divergence <= 1e-6 ? 0.0 : 1.0 / divergence, 0.0, 0.0);
-    densityPressure[i] = vec2(rho, DFSPH_PRESSURE_SCALE * sphFetchVel(i).w);
+    float pressure = DFSPH_PRESSURE_SCALE * sphFetchVel(i).w;
+#if defined(DFSPH_PRESSURE_MEAN)
+    if (uFrameEnd != 0u) {
+      uint id = floatBitsToUint(sphFetchPos(i).w);
+      pressure = impulse[id] / DFSPH_FRAME_SECONDS;
+      impulse[id] = 0.0;
+    }
+#endif
+    densityPressure[i] = vec2(rho, pressure);
 #if defined(DFSPH_BOUNDARY_CONSTRAINTS)
     accel[i] = vec4(0.0);  // the samples' own stiffness holds the fluid up (no hydrostatic push)
 #else

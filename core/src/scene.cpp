@@ -569,7 +569,9 @@ std::shared_ptr<const Object<CacheSettings>> cacheSchema() {
                  {{"density", CacheAttribute::Density},
                   {"pressure", CacheAttribute::Pressure},
                   {"id", CacheAttribute::Id}},
-                 "Optional per-particle attributes written besides P and v.");
+                 "Optional per-particle attributes written besides P and v. Density and WCSPH's pressure "
+                 "are those of the frame's end state; DFSPH's pressure is the frame's mean, the pressure "
+                 "impulse its two solves applied over the frame divided by the frame's time.");
   });
 }
 

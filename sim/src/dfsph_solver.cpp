@@ -94,6 +94,10 @@ double minNeighbours(const Scene& scene) {
 
 }  // namespace
 
+bool DFSPHSolver::cachesMeanPressure(const Scene& scene) {
+  return scene.solver.method == Solver::DFSPH && scene.hasCacheAttribute(CacheAttribute::Pressure);
+}
+
 ShaderDefines DFSPHSolver::factorDefines(const Scene& scene, ShaderDefines d) {
   d = withDensitySolveShares(scene.solver.dfsph, std::move(d));
   d.set("DFSPH_MAX_NEIGHBORS", listSlots(scene));
@@ -105,6 +109,8 @@ ShaderDefines DFSPHSolver::factorDefines(const Scene& scene, ShaderDefines d) {
     d.set("DFSPH_KERNEL_DENSITY", float(scale));
     wall = {scale, scale, scale};
   }
+  if (cachesMeanPressure(scene))
+    d.set("DFSPH_PRESSURE_MEAN").set("DFSPH_FRAME_SECONDS", fmt::format("{:.9g}", 1.0 / scene.time.fps));
   d.set("DFSPH_WALL_SPIKY_FACE", float(wall[0]));
   d.set("DFSPH_WALL_SPIKY_EDGE", float(wall[1]));
   d.set("DFSPH_WALL_SPIKY_CORNER", float(wall[2]));
@@ -250,6 +256,12 @@ DFSPHSolver::DFSPHSolver(const Scene& scene, const DispatchGate& gate, const Sha
     boundaryApply_ = ShaderProgram::compute(simShaderTable(), "sim_dfsph_boundary_source.comp",
                                             ShaderDefines(d).set("DFSPH_BOUNDARY_APPLY"));
   }
+  if (cachesMeanPressure(scene)) {
+    pressureImpulse_ = GpuBuffer(size_t(std::max<uint32_t>(particles, 1)) * 4);
+    pressureImpulse_.fill(0);
+    pressureMean_ = ShaderProgram::compute(simShaderTable(), "sim_dfsph_pressure_mean.comp",
+                                           factorDefines(scene, defines_));
+  }
   checkListFitsTextureView();
   density_ = makeSolve(defines_, false, 0);
   divergence_ = makeSolve(defines_, true, 3 * DispatchGate::kParticleEntry);
@@ -356,6 +368,7 @@ void DFSPHSolver::bind() const {
   boundary_.bindStorage(SPHFX_SSBO_SIM_DFSPH_BOUNDARY);
   count_.bindStorage(SPHFX_SSBO_SIM_DFSPH_COUNT);
   if (boundaryConstraints_) wet_.bindStorage(SPHFX_SSBO_SIM_DFSPH_WET);
+  if (pressureImpulse_.size()) pressureImpulse_.bindStorage(SPHFX_SSBO_SIM_DFSPH_PRESSURE_IMPULSE);
 }
 
 void DFSPHSolver::dispatch(const ShaderProgram& p, uint32_t entry, const char* label) const {
@@ -394,9 +407,15 @@ bool DFSPHSolver::open() const {
 }
 
 void DFSPHSolver::computeDensity(PassTimer& timer) const {
+  factorPass(timer, true);
+}
+
+void DFSPHSolver::factorPass(PassTimer& timer, bool frameEnd) const {
   timer.begin("dfsph_factor");
   bind();
   factor_.use();
+  if (pressureImpulse_.size())
+    glProgramUniform1ui(factor_.id(), factor_.uniform("uFrameEnd"), frameEnd ? 1 : 0);
   gate_->dispatch(DispatchGate::kParticleEntry, "sim_dfsph_factor.comp");
   storageBarrier();
   if (boundaryConstraints_) {
@@ -451,7 +470,7 @@ void DFSPHSolver::run(const Solve& s, const char* label, PassTimer& timer) const
 }
 
 void DFSPHSolver::computeAccelerations(PassTimer& timer) const {
-  computeDensity(timer);
+  factorPass(timer, false);
   run(divergence_, "dfsph_divergence", timer);
   timer.begin("dfsph_nonpressure");
   nonPressure_.use();
@@ -461,6 +480,11 @@ void DFSPHSolver::computeAccelerations(PassTimer& timer) const {
 
 void DFSPHSolver::correctVelocities(PassTimer& timer) const {
   run(density_, "dfsph_density", timer);
+  if (!pressureImpulse_.size()) return;
+  timer.begin("dfsph_pressure_mean");
+  pressureMean_.use();
+  gate_->dispatch(DispatchGate::kFinalEntry, "sim_dfsph_pressure_mean.comp");  // open in a frame's last step
+  storageBarrier();
 }
 
 DfsphFrameStats DFSPHSolver::readFrameStats() const {

@@ -121,6 +121,11 @@ class DFSPHSolver : public PressureSolver {
   /// `defines` (with wallDefines()) plus what sim_dfsph_boundary_source.comp needs, in both its variants
   /// (iteration; DFSPH_BOUNDARY_APPLY): the constant-density solve's and the factor pass's defines.
   static ShaderDefines sampleSolveDefines(const Scene& scene, ShaderDefines defines);
+  /// True where the scene caches the pressure (cache.attributes): DFSPH then caches each frame's mean, the
+  /// pressure impulse both solves applied over the frame divided by its time (DFSPH_PRESSURE_MEAN,
+  /// sim_dfsph_pressure_mean.comp), which does not depend on how the frame's steps were cut. Throws
+  /// nothing.
+  static bool cachesMeanPressure(const Scene& scene);
   /// `defines` plus what sim_dfsph_nonpressure.comp needs (the density solve's warm share, wall push).
   static ShaderDefines nonPressureDefines(const DfsphSettings& settings, ShaderDefines defines);
 
@@ -157,6 +162,9 @@ class DFSPHSolver : public PressureSolver {
   Solve makeSolve(const ShaderDefines& defines, bool divergence, uint32_t gateWord) const;
   void run(const Solve& s, const char* label, PassTimer& timer) const;
   void bind() const;
+  /// The step start's factor pass; at the frame's end (`frameEnd`) it also caches the frame's mean
+  /// pressure where cachesMeanPressure().
+  void factorPass(PassTimer& timer, bool frameEnd) const;
   void checkListFitsTextureView() const;
   void dispatch(const ShaderProgram& p, uint32_t entry, const char* label) const;
   void dispatchOverSamples(const ShaderProgram& p, const char* label) const;
@@ -181,6 +189,10 @@ class DFSPHSolver : public PressureSolver {
   GpuBuffer particle_, increment_, warm_, partial_, control_, neighbors_, boundary_, count_;
   /// Constraint walls: the samples with fluid near them this substep (sph_dfsph.glsl, DFSPH_WET_LIST).
   GpuBuffer wet_;
+  /// cachesMeanPressure() only: the frame's pressure impulse per particle id, and the pass that adds a
+  /// substep's to it.
+  GpuBuffer pressureImpulse_;
+  ShaderProgram pressureMean_;
   ShaderProgram factor_, nonPressure_;
   /// Constraint walls only: the samples' step start, iteration and apply passes, and the pass that
   /// computes their resting shares once, in the solver's first substep (restSharePending_; scenes with

@@ -34,7 +34,8 @@ class PressureSolver {
   virtual const char* name() const = 0;
   /// Queues the solver's passes (GPU work only).
   virtual void computeAccelerations(PassTimer& timer) const = 0;
-  /// Only density and pressure (for the first frame's cache attributes and health check).
+  /// Only density and pressure: the cache attributes of a frame's end state (DFSPH: the frame's mean
+  /// pressure, DFSPHSolver::cachesMeanPressure()) and the first frame's health check.
   virtual void computeDensity(PassTimer& timer) const = 0;
   /// Queued after the time step pass chose dt, before integration: predictor-corrector solvers (DFSPH's
   /// constant-density solve) correct the accelerations for that dt here. Default: nothing.

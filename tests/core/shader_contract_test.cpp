@@ -84,6 +84,7 @@ const std::map<std::string, Constant>& blockBindings() {
       {"DfsphIncrement", SPHFX_CONSTANT(SPHFX_SSBO_SIM_DFSPH_INCREMENT)},
       {"DfsphWet", SPHFX_CONSTANT(SPHFX_SSBO_SIM_DFSPH_WET)},
       {"DfsphWarm", SPHFX_CONSTANT(SPHFX_SSBO_SIM_DFSPH_WARM)},
+      {"DfsphPressureImpulse", SPHFX_CONSTANT(SPHFX_SSBO_SIM_DFSPH_PRESSURE_IMPULSE)},
       {"DfsphPartial", SPHFX_CONSTANT(SPHFX_SSBO_SIM_DFSPH_PARTIAL)},
       {"DfsphControl", SPHFX_CONSTANT(SPHFX_SSBO_SIM_DFSPH_CONTROL)},
       {"DfsphNeighbors", SPHFX_CONSTANT(SPHFX_SSBO_SIM_DFSPH_NEIGHBORS)},
@@ -227,6 +228,8 @@ void addSimPrograms(const Scene& scene, const std::string& variant, std::vector<
       "DFSPH_RESIDUAL_SLOTS", sim::DFSPHSolver::residualSlots(d, 1000));
   add("sim_dfsph_factor.comp", sim::DFSPHSolver::factorDefines(scene, w));
   add("sim_dfsph_nonpressure.comp", sim::DFSPHSolver::nonPressureDefines(scene.solver.dfsph, w));
+  if (sim::DFSPHSolver::cachesMeanPressure(scene))
+    add("sim_dfsph_pressure_mean.comp", sim::DFSPHSolver::factorDefines(scene, w));
   if (scene.solver.dfsph.walls == DfsphWalls::Constraints) {
     add("sim_dfsph_boundary_factor.comp", sim::DFSPHSolver::factorDefines(scene, w));
     add("sim_dfsph_boundary_factor.comp",
@@ -264,6 +267,8 @@ std::vector<ProgramSpec> allPrograms() {
                  "dam_break dfsph constraint walls", programs);
   addSimPrograms(loadScene(dam), "dam_break workgroup reduce", programs, true);
   addSimPrograms(loadScene(dam, {"solver.method=dfsph"}), "dam_break dfsph workgroup reduce", programs, true);
+  addSimPrograms(loadScene((root / "scenes" / "hydrostatic.json").string(), {"solver.method=dfsph"}),
+                 "hydrostatic dfsph (pressure cached)", programs);
 
   const auto add = [&](const std::string& files, const ShaderDefines& defines = {}) {
     programs.push_back({files, defines, "renderer"});
