@@ -92,27 +92,28 @@ double largestEigenvalue(const std::array<double, 6>& a) {
   return q + 2 * p * std::cos(phi);
 }
 
-}  // namespace
+/// A lattice site x_j within the kernel of the site at the origin, with the weight of its 3x3 matrix
+/// weight x_j x_j^T in the linearised artificial term (artificialViscosityRate()).
+struct ViscositySite {
+  double x[3], weight;
+};
 
-double artificialViscosityRate(const Scene& scene) {
-  const double alpha = scene.fluid.artificialViscosity;
-  if (scene.fluid.viscosityModel != ViscosityModel::Artificial || alpha <= 0) return 0;
-  const double s = scene.fluid.spacing, h = scene.kernelRadius(), rho0 = scene.fluid.restDensity;
+/// The resting lattice's sites within h, each weighted m nu F(r) / (r^2 + 0.01 h^2), F = -W'(r) / r of the
+/// solver's gradient kernel and m the mass its sums take.
+std::vector<ViscositySite> artificialViscositySites(const Scene& scene) {
+  const double s = scene.fluid.spacing, h = scene.kernelRadius();
   const bool dfsph = scene.solver.method == Solver::DFSPH;
   const DfsphDensityKernel densityKernel = scene.solver.dfsph.densityKernel;
   const bool wendland = dfsph ? densityKernel == DfsphDensityKernel::WendlandC2 : usesWendland(scene);
-  double mass = calibratedParticleMass(scene);  // the mass the gradient sums take
+  double mass = calibratedParticleMass(scene);
   if (dfsph) mass *= DFSPHSolver::densityMassScale(densityKernel, scene.solver.kernelSupport);
-  const double nu = alpha * h * scene.soundSpeed() / rho0;
+  const double nu = scene.fluid.artificialViscosity * h * scene.soundSpeed() / scene.fluid.restDensity;
   const WendlandFactors w = wendlandFactors(h);
   const KernelFactors k = kernelFactors(h);
-  auto minusGradOverR = [&](double r) {  // F = -W'(r) / r
+  auto minusGradOverR = [&](double r) {
     return wendland ? -w.gradient * std::pow(1 - r / h, 3) : -k.spikyGradient * (h - r) * (h - r) / r;
   };
-  struct Site {
-    double x[3], weight;  // weight m nu F / (r^2 + 0.01 h^2): the site's matrix is weight x x^T
-  };
-  std::vector<Site> sites;
+  std::vector<ViscositySite> sites;
   const int n = int(std::ceil(h / s));
   for (int i = -n; i <= n; ++i)
     for (int j = -n; j <= n; ++j)
@@ -122,28 +123,42 @@ double artificialViscosityRate(const Scene& scene) {
         sites.push_back(
             {{i * s, j * s, l * s}, mass * nu * minusGradOverR(std::sqrt(r2)) / (r2 + 0.01 * h * h)});
       }
+  return sites;
+}
+
+/// The decay rate of the velocity mode of wavevector k: the largest eigenvalue of
+/// sum_j weight_j (1 - cos k . x_j) x_j x_j^T.
+double artificialViscosityModeRate(const std::vector<ViscositySite>& sites, const double k[3]) {
+  std::array<double, 6> m{};
+  for (const ViscositySite& site : sites) {
+    const double* x = site.x;
+    const double f = site.weight * (1 - std::cos(k[0] * x[0] + k[1] * x[1] + k[2] * x[2]));
+    m[0] += f * x[0] * x[0];
+    m[1] += f * x[1] * x[1];
+    m[2] += f * x[2] * x[2];
+    m[3] += f * x[0] * x[1];
+    m[4] += f * x[0] * x[2];
+    m[5] += f * x[1] * x[2];
+  }
+  return largestEigenvalue(m);
+}
+
+}  // namespace
+
+double artificialViscosityRate(const Scene& scene) {
+  if (scene.fluid.viscosityModel != ViscosityModel::Artificial || scene.fluid.artificialViscosity <= 0)
+    return 0;
+  const std::vector<ViscositySite> sites = artificialViscositySites(scene);
   // Modes k = pi / s (a, b, c) / N over the irreducible part of the Brillouin zone (the lattice's
-  // permutations and reflections map the rest onto it); each mode's rate is its matrix's largest
-  // eigenvalue, sum_j weight_j (1 - cos k . x_j) x_j x_j^T.
+  // permutations and reflections map the rest onto it).
   constexpr int N = 8;
+  const double step = std::numbers::pi / scene.fluid.spacing / N;
   double rate = 0;
   for (int a = 0; a <= N; ++a)
     for (int b = 0; b <= a; ++b)
       for (int c = 0; c <= b; ++c) {
-        const double kx = std::numbers::pi / s * a / N, ky = std::numbers::pi / s * b / N,
-                     kz = std::numbers::pi / s * c / N;
-        std::array<double, 6> m{};
-        for (const Site& site : sites) {
-          const double* x = site.x;
-          const double f = site.weight * (1 - std::cos(kx * x[0] + ky * x[1] + kz * x[2]));
-          m[0] += f * x[0] * x[0];
-          m[1] += f * x[1] * x[1];
-          m[2] += f * x[2] * x[2];
-          m[3] += f * x[0] * x[1];
-          m[4] += f * x[0] * x[2];
-          m[5] += f * x[1] * x[2];
-        }
-        rate = std::max(rate, largestEigenvalue(m));
+        const double k[3] = {step * a, step * b, step * c};
+        rate = std::max(rate, artificialViscosityModeRate(sites, k));
       }
   return rate * std::max(1.0, scene.wallViscosityMultiple());
 }
