@@ -303,22 +303,15 @@ double DFSPHSolver::jacobiSpectralBound(double support) {
         nbr.push_back({double(x), double(y), double(z), g * x, g * y, g * z});
         diagonal += g * g * r * r;
       }
-  // The symbol is even and symmetric under the lattice's axis permutations: k in 0 <= kx <= ky <= kz <= pi.
-  constexpr int kSteps = 12;
-  double bound = 0;
-  for (int i = 0; i <= kSteps; ++i)
-    for (int j = i; j <= kSteps; ++j)
-      for (int l = j; l <= kSteps; ++l) {
-        const double kx = std::numbers::pi * i / kSteps, ky = std::numbers::pi * j / kSteps,
-                     kz = std::numbers::pi * l / kSteps;
-        double s[3] = {0, 0, 0};
-        for (const auto& e : nbr) {
-          const double w = std::sin(kx * e[0] + ky * e[1] + kz * e[2]);
-          s[0] += w * e[3], s[1] += w * e[4], s[2] += w * e[5];
-        }
-        bound = std::max(bound, (s[0] * s[0] + s[1] * s[1] + s[2] * s[2]) / diagonal);
-      }
-  return bound;
+  // The symbol is even and symmetric under the lattice's axis permutations.
+  return maxOverLatticeModes(12, [&](const std::array<double, 3>& k) {
+    double s[3] = {0, 0, 0};
+    for (const auto& e : nbr) {
+      const double w = std::sin(k[0] * e[0] + k[1] * e[1] + k[2] * e[2]);
+      s[0] += w * e[3], s[1] += w * e[4], s[2] += w * e[5];
+    }
+    return (s[0] * s[0] + s[1] * s[1] + s[2] * s[2]) / diagonal;
+  });
 }
 
 double DFSPHSolver::jacobiRelaxation(const DfsphSettings& settings, double kernelSupport) {

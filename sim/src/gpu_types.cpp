@@ -145,21 +145,25 @@ double artificialViscosityModeRate(const std::vector<ViscositySite>& sites, cons
 
 }  // namespace
 
+double maxOverLatticeModes(int steps, const std::function<double(const std::array<double, 3>&)>& f) {
+  double best = 0;
+  for (int i = 0; i <= steps; ++i)
+    for (int j = i; j <= steps; ++j)
+      for (int l = j; l <= steps; ++l)
+        best = std::max(best, f({std::numbers::pi * i / steps, std::numbers::pi * j / steps,
+                                 std::numbers::pi * l / steps}));
+  return best;
+}
+
 double artificialViscosityRate(const Scene& scene) {
   if (scene.fluid.viscosityModel != ViscosityModel::Artificial || scene.fluid.artificialViscosity <= 0)
     return 0;
   const std::vector<ViscositySite> sites = artificialViscositySites(scene);
-  // Modes k = pi / s (a, b, c) / N over the irreducible part of the Brillouin zone (the lattice's
-  // permutations and reflections map the rest onto it).
-  constexpr int N = 8;
-  const double step = std::numbers::pi / scene.fluid.spacing / N;
-  double rate = 0;
-  for (int a = 0; a <= N; ++a)
-    for (int b = 0; b <= a; ++b)
-      for (int c = 0; c <= b; ++c) {
-        const double k[3] = {step * a, step * b, step * c};
-        rate = std::max(rate, artificialViscosityModeRate(sites, k));
-      }
+  const double s = scene.fluid.spacing;
+  const double rate = maxOverLatticeModes(8, [&](const std::array<double, 3>& k) {
+    const double perMetre[3] = {k[0] / s, k[1] / s, k[2] / s};
+    return artificialViscosityModeRate(sites, perMetre);
+  });
   return rate * std::max(1.0, scene.wallViscosityMultiple());
 }
 

@@ -120,6 +120,11 @@ double restWallSum(const Scene& scene, const std::function<double(double)>& kern
 /// SIM_WALL_CONTACT_REST, `restSum`: restWallSum() with the solver's wall kernel and weights.
 ShaderDefines withWallContact(const Scene& scene, double restSum, ShaderDefines defines);
 
+/// The largest of `f` over the wavevectors k (radians per spacing) of the cubic lattice's irreducible
+/// Brillouin zone on a grid of `steps` per axis, 0 <= k[0] <= k[1] <= k[2] <= pi: for a symbol that is even
+/// and symmetric under the axis permutations, its largest value over every k on that grid.
+double maxOverLatticeModes(int steps, const std::function<double(const std::array<double, 3>&)>& f);
+
 /// The largest decay rate (1/s) of Monaghan's artificial viscosity (fluid.artificial_viscosity, the
 /// viscosity passes' artificialViscosity()) on the resting cubic lattice: 0 for other viscosity models
 /// or alpha = 0. The term is linearised with its approaching-only switch left out (the switch only drops
