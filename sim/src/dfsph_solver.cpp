@@ -289,8 +289,10 @@ ShaderDefines DFSPHSolver::solveDefines(const DfsphSettings& settings, double ke
   return d;
 }
 
-double DFSPHSolver::jacobiSpectralBound(double support) {
-  // Neighbour offsets d_j (in spacings) with their spiky gradients; constant factors cancel in the ratio.
+double DFSPHSolver::jacobiSpectralBound(double support, DfsphDensityKernel kernel) {
+  // Neighbour offsets d_j (in spacings) with the solves' gradients; constant factors cancel in the ratio.
+  // Wendland C2's gradient is (1 - q)^3 d, the spiky kernel's (support - r)^2 d / r (also poly6's solves).
+  const bool wendland = kernel == DfsphDensityKernel::WendlandC2;
   std::vector<std::array<double, 6>> nbr;  // d, grad W
   const int n = int(std::ceil(support));
   double diagonal = 0;
@@ -299,7 +301,7 @@ double DFSPHSolver::jacobiSpectralBound(double support) {
       for (int z = -n; z <= n; ++z) {
         const double r = std::sqrt(double(x * x + y * y + z * z));
         if (r <= 0 || r >= support) continue;
-        const double g = (support - r) * (support - r) / r;
+        const double g = wendland ? std::pow(1 - r / support, 3) : (support - r) * (support - r) / r;
         nbr.push_back({double(x), double(y), double(z), g * x, g * y, g * z});
         diagonal += g * g * r * r;
       }
@@ -316,8 +318,11 @@ double DFSPHSolver::jacobiSpectralBound(double support) {
 
 double DFSPHSolver::jacobiRelaxation(const DfsphSettings& settings, double kernelSupport) {
   constexpr double kDefaultSupport = 2;  // where solver.dfsph.jacobi_omega's default was chosen
-  const double scale = jacobiSpectralBound(kDefaultSupport) / jacobiSpectralBound(kernelSupport);
-  return settings.jacobiOmega * std::min(1.0, scale);
+  const double spiky = jacobiSpectralBound(kernelSupport, DfsphDensityKernel::Spiky);
+  const double supportScale =
+      std::min(1.0, jacobiSpectralBound(kDefaultSupport, DfsphDensityKernel::Spiky) / spiky);
+  return settings.jacobiOmega * supportScale * spiky /
+         jacobiSpectralBound(kernelSupport, settings.densityKernel);
 }
 
 ShaderDefines DFSPHSolver::nonPressureDefines(const DfsphSettings& settings, ShaderDefines defines) {

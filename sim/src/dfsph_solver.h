@@ -97,12 +97,15 @@ class DFSPHSolver : public PressureSolver {
                                     uint32_t gateWord);
   /// The largest eigenvalue of the solves' Jacobi-scaled matrix on the resting lattice at kernel support
   /// `support` (spacings): max over wavevectors k of |sum_j sin(k . d_j) grad W(d_j)|^2 / sum_j |grad
-  /// W(d_j)|^2 (the matrix's Fourier symbol over its diagonal, spiky gradient), 2.81 at 2 and 6.72 at 3.
+  /// W(d_j)|^2 (the matrix's Fourier symbol over its diagonal), with the gradient the solves of
+  /// density_kernel `kernel` take: spiky (also for poly6) 2.81 at 2 and 6.72 at 3, Wendland C2 2.61 at 2.
   /// Throws nothing.
-  static double jacobiSpectralBound(double support);
+  static double jacobiSpectralBound(double support, DfsphDensityKernel kernel = DfsphDensityKernel::Spiky);
   /// The relaxation the solves use: solver.dfsph.jacobi_omega at the default support 2, scaled by
-  /// jacobiSpectralBound(2) / jacobiSpectralBound(support) where that is below 1, so that every support
-  /// keeps the default's margin to the heavy-ball iteration's divergence (omega lambda < 2 (1 + momentum)).
+  /// lambda(2) / lambda(support) of the spiky gradient where that is below 1, and by the spiky gradient's
+  /// lambda over the density kernel's at the support, so that every support and kernel keeps the
+  /// default's omega lambda, the margin to the heavy-ball iteration's divergence (omega lambda < 2 (1 +
+  /// momentum)).
   static double jacobiRelaxation(const DfsphSettings& settings, double kernelSupport);
   /// `defines` plus, with constraint walls (solver.dfsph.walls), what every DFSPH pass needs for them:
   /// DFSPH_BOUNDARY_CONSTRAINTS, the list slots (the wall entries fill them from the end), the spacing

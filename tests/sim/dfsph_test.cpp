@@ -308,8 +308,9 @@ TEST_F(DFSPH, FarWallOfAMisfitAxisHoldsTheFluidAsTheNearOneDoes) {
 // DFSPHSolver::jacobiSpectralBound() is the Fourier symbol's maximum; here the same matrix is built in
 // real space on a periodic lattice of `dims` sites and its largest eigenvalue over the diagonal found by
 // power iteration: kappa -> dv_i = -sum_j (kappa_i + kappa_j) grad W_ij, r_i = sum_j (dv_i - dv_j) .
-// grad W_ij. The lattice's wavevectors are multiples of 2 pi / dims: chosen to hold the symbol's maximum.
-double latticeJacobiEigenvalue(double support, std::array<int, 3> dims) {
+// grad W_ij, with the solves' gradient under `kernel` (spiky, or Wendland C2's (1 - q)^3 d). The lattice's
+// wavevectors are multiples of 2 pi / dims: chosen to hold the symbol's maximum.
+double latticeJacobiEigenvalue(double support, std::array<int, 3> dims, DfsphDensityKernel kernel) {
   struct Offset {
     int x, y, z;
     std::array<double, 3> g;
@@ -322,7 +323,9 @@ double latticeJacobiEigenvalue(double support, std::array<int, 3> dims) {
       for (int z = -reach; z <= reach; ++z) {
         const double r = std::sqrt(double(x * x + y * y + z * z));
         if (r == 0 || r >= support) continue;
-        const double w = (support - r) * (support - r) / r;  // spiky gradient, constant factor dropped
+        // The gradient's shape, constant factors dropped.
+        const double w = kernel == DfsphDensityKernel::WendlandC2 ? std::pow(1 - r / support, 3)
+                                                                  : (support - r) * (support - r) / r;
         nbr.push_back({x, y, z, {w * x, w * y, w * z}});
         diagonal += w * w * r * r;
       }
@@ -369,21 +372,41 @@ double latticeJacobiEigenvalue(double support, std::array<int, 3> dims) {
 
 TEST(DFSPHRelaxation, SpectralBoundMatchesThePowerIterationOnALattice) {
   // The symbol's maxima: k = (1, 1, 1) pi / 3 at support 2, (2, 3, 3) pi / 12 at 3 (and permutations).
-  const std::vector<std::pair<double, std::array<int, 3>>> cases = {{2.0, {6, 6, 6}}, {3.0, {12, 8, 8}}};
-  for (const auto& [support, dims] : cases) {
-    const double bound = DFSPHSolver::jacobiSpectralBound(support),
-                 power = latticeJacobiEigenvalue(support, dims);
-    std::printf("support %.0f: symbol maximum %.4f, power iteration %.4f\n", support, bound, power);
-    EXPECT_NEAR(bound, power, 1e-3 * power) << "support " << support;
+  struct Case {
+    double support;
+    std::array<int, 3> dims;
+    DfsphDensityKernel kernel;
+  };
+  const std::vector<Case> cases = {{2.0, {6, 6, 6}, DfsphDensityKernel::Spiky},
+                                   {3.0, {12, 8, 8}, DfsphDensityKernel::Spiky},
+                                   {2.0, {6, 6, 6}, DfsphDensityKernel::WendlandC2}};
+  for (const Case& c : cases) {
+    const double bound = DFSPHSolver::jacobiSpectralBound(c.support, c.kernel),
+                 power = latticeJacobiEigenvalue(c.support, c.dims, c.kernel);
+    std::printf("support %.0f, %s gradient: symbol maximum %.4f, power iteration %.4f\n", c.support,
+                c.kernel == DfsphDensityKernel::WendlandC2 ? "Wendland C2" : "spiky", bound, power);
+    EXPECT_NEAR(bound, power, 1e-3 * power) << "support " << c.support;
   }
   // The relaxation keeps omega lambda at the default's: 0.5 x 2.81 at support 2, below the heavy-ball
-  // limit 2 (1 + 0.5) = 3 that 0.5 x 6.72 at support 3 exceeded.
+  // limit 2 (1 + 0.5) = 3 that 0.5 x 6.72 at support 3 exceeded; the poly6 density's solves take the
+  // spiky gradient, Wendland C2's its own.
   DfsphSettings settings;
-  EXPECT_DOUBLE_EQ(DFSPHSolver::jacobiRelaxation(settings, 2.0), settings.jacobiOmega);
-  EXPECT_DOUBLE_EQ(DFSPHSolver::jacobiRelaxation(settings, 1.5), settings.jacobiOmega);
-  for (const double support : {2.5, 3.0, 4.0})
-    EXPECT_NEAR(DFSPHSolver::jacobiRelaxation(settings, support) * DFSPHSolver::jacobiSpectralBound(support),
-                settings.jacobiOmega * DFSPHSolver::jacobiSpectralBound(2.0), 1e-9);
+  settings.jacobiOmega = 0.5;
+  const double lambda2 = DFSPHSolver::jacobiSpectralBound(2.0);
+  for (const DfsphDensityKernel kernel : {DfsphDensityKernel::Poly6, DfsphDensityKernel::Spiky}) {
+    settings.densityKernel = kernel;
+    EXPECT_DOUBLE_EQ(DFSPHSolver::jacobiRelaxation(settings, 2.0), settings.jacobiOmega);
+    EXPECT_DOUBLE_EQ(DFSPHSolver::jacobiRelaxation(settings, 1.5), settings.jacobiOmega);
+  }
+  for (const DfsphDensityKernel kernel :
+       {DfsphDensityKernel::Poly6, DfsphDensityKernel::Spiky, DfsphDensityKernel::WendlandC2}) {
+    settings.densityKernel = kernel;
+    for (const double support : {2.0, 2.5, 3.0, 4.0})
+      EXPECT_NEAR(DFSPHSolver::jacobiRelaxation(settings, support) *
+                      DFSPHSolver::jacobiSpectralBound(support, kernel),
+                  settings.jacobiOmega * lambda2, 1e-9)
+          << "support " << support;
+  }
 }
 
 // The mean-density target applies only where the fluid fills a domain periodic along every axis: a
