@@ -233,10 +233,11 @@ std::shared_ptr<const Object<DfsphSettings>> dfsphSchema() {
         .number("jacobi_omega", &DfsphSettings::jacobiOmega, 0.5, "", Range{0, 1, true, false},
                 "Relaxation of the projected Jacobi updates (IISPH's 0.5) at kernel_support 2 with the "
                 "spiky gradient. Larger values converge faster where they converge at all; the dam break "
-                "from rest with jacobi_momentum 0 stops at 0.7 and holds at 0.65 under either density "
-                "kernel. The solves scale it by the lattice's Jacobi spectral bound, 2.81 there over the "
-                "bound of the scene's support and kernel (spiky 6.72 at support 3: 0.5 becomes 0.21; "
-                "wendland_c2 2.61 at 2: 0.54), so that every support and kernel keeps the same margin.")
+                "from rest with jacobi_momentum 0 stops at 0.7 and holds at 0.65 under the spiky and the "
+                "wendland_c2 density. The solves scale it by the lattice's Jacobi spectral bound, 2.81 "
+                "there over the bound of the scene's support and kernel (spiky 6.72 at support 3: 0.5 "
+                "becomes 0.21; wendland_c2 2.61 at 2: 0.54), so that every support and kernel keeps the "
+                "same margin.")
         .number("jacobi_momentum", &DfsphSettings::jacobiMomentum, 0.5, "", Range{0, 1, false, true},
                 "Share of a particle's previous stiffness increment added to the next (heavy-ball Jacobi, "
                 "Polyak 1964); 0 is plain relaxed Jacobi, which needs about 1.5 times the iterations (the "
