@@ -1,7 +1,6 @@
 #pragma once
 // Collider geometry files for tests, written independently of sphfx's readers: an axis-aligned box as
 // OBJ (quads), a UV sphere as binary STL, a single quad (an open surface) as ASCII STL.
-#include <unistd.h>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -12,14 +11,15 @@
 #include <string>
 #include <vector>
 
+#include "scratch_dir.h"
+
 namespace sphfx::test {
 
 using V3 = std::array<double, 3>;
 
-/// An empty folder TMP/sphfx_NAME_PID for a test's files.
+/// An empty folder NAME in the process's scratch folder (scratch_dir.h) for a test's files.
 inline std::filesystem::path freshTestDir(const std::string& name) {
-  const std::filesystem::path d =
-      std::filesystem::temp_directory_path() / ("sphfx_" + name + "_" + std::to_string(::getpid()));
+  const std::filesystem::path d = scratchPath(name);
   std::filesystem::remove_all(d);
   std::filesystem::create_directories(d);
   return d;

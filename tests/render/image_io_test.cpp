@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "../common/scratch_dir.h"
 #include "image_io.h"
 
 using namespace sphfx::render;
@@ -18,7 +19,7 @@ using namespace sphfx::render;
 namespace {
 
 std::string tempPath(const std::string& name) {
-  return (std::filesystem::temp_directory_path() / ("sphfx_image_io_" + name)).string();
+  return sphfx::test::scratchPath("image_io_" + name).string();
 }
 
 /// A 4x2 linear test image: known colours, a gradient in alpha, depth increasing along the row.

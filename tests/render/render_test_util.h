@@ -7,7 +7,7 @@
 #include <memory>
 #include <string>
 
-#include <unistd.h>
+#include "../common/scratch_dir.h"
 #include "renderer.h"
 #include "sphfx/gpu/gl_context.h"
 
@@ -19,8 +19,7 @@ inline std::unique_ptr<GLContext> makeContext() {
 }
 
 inline std::string tempDir(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() /
-                   ("sphfx_render_test_" + name + "_" + std::to_string(::getpid()));
+  const auto dir = scratchPath("render_test_" + name);
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir.string();

@@ -47,7 +47,7 @@ double stat(const FrameStats& f, const std::string& key) {
 // A fresh folder named after the running test too: ctest runs this binary's tests in parallel.
 fs::path freshDir(const std::string& name) {
   const std::string test = ::testing::UnitTest::GetInstance()->current_test_info()->name();
-  const fs::path dir = fs::temp_directory_path() / ("sphfx_dfsph_" + test + "_" + name);
+  const fs::path dir = test::scratchPath("dfsph_" + test + "_" + name);
   fs::remove_all(dir);
   return dir;
 }

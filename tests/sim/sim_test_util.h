@@ -14,7 +14,7 @@
 #include <utility>
 #include <vector>
 
-#include <unistd.h>
+#include "../common/scratch_dir.h"
 #include "bindings.h"
 #include "dispatch_gate.h"
 #include "gpu_types.h"
@@ -47,12 +47,10 @@ inline std::string solverParamName(const ::testing::TestParamInfo<std::string>& 
   return info.param;
 }
 
-/// Simulates `scene` into the shot TMP/sphfx_sim_test_NAME_PID (emptied first unless `resume`), without a
-/// progress line; returns the shot folder.
+/// Simulates `scene` into the shot sim_test_NAME in the process's scratch folder (scratch_dir.h; emptied
+/// first unless `resume`), without a progress line; returns the shot folder.
 inline std::string simulateTestShot(const std::string& name, const Scene& scene, bool resume = false) {
-  const std::string shot =
-      (std::filesystem::temp_directory_path() / ("sphfx_sim_test_" + name + "_" + std::to_string(::getpid())))
-          .string();
+  const std::string shot = scratchPath("sim_test_" + name).string();
   if (!resume) std::filesystem::remove_all(shot);
   sim::SimulationOptions o;
   o.shotDir = shot;
