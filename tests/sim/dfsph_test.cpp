@@ -44,7 +44,7 @@ double stat(const FrameStats& f, const std::string& key) {
   return 0;
 }
 
-// A fresh folder named after the running test too: ctest runs this binary's tests in parallel.
+// A fresh folder in the process's scratch folder (scratch_dir.h), named after the running test.
 fs::path freshDir(const std::string& name) {
   const std::string test = ::testing::UnitTest::GetInstance()->current_test_info()->name();
   const fs::path dir = test::scratchPath("dfsph_" + test + "_" + name);
