@@ -290,8 +290,8 @@ ShaderDefines DFSPHSolver::solveDefines(const DfsphSettings& settings, double ke
 }
 
 double DFSPHSolver::jacobiSpectralBound(double support, DfsphDensityKernel kernel) {
-  // Neighbour offsets d_j (in spacings) with the solves' gradients; constant factors cancel in the ratio.
-  // Wendland C2's gradient is (1 - q)^3 d, the spiky kernel's (support - r)^2 d / r (also poly6's solves).
+  // Neighbour offsets d_j (in spacings) with the solves' gradients (the spiky kernel's for the poly6
+  // density too); constant factors cancel in the ratio.
   const bool wendland = kernel == DfsphDensityKernel::WendlandC2;
   std::vector<std::array<double, 6>> nbr;  // d, grad W
   const int n = int(std::ceil(support));
@@ -301,7 +301,7 @@ double DFSPHSolver::jacobiSpectralBound(double support, DfsphDensityKernel kerne
       for (int z = -n; z <= n; ++z) {
         const double r = std::sqrt(double(x * x + y * y + z * z));
         if (r <= 0 || r >= support) continue;
-        const double g = wendland ? std::pow(1 - r / support, 3) : (support - r) * (support - r) / r;
+        const double g = gradientOverDistance(wendland, r, support);
         nbr.push_back({double(x), double(y), double(z), g * x, g * y, g * z});
         diagonal += g * g * r * r;
       }

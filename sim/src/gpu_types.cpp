@@ -75,6 +75,11 @@ ShaderDefines withWallContact(const Scene& scene, double restSum, ShaderDefines 
   return defines;
 }
 
+double gradientOverDistance(bool wendland, double r, double h) {
+  return wendland ? -wendlandFactors(h).gradient * std::pow(1 - r / h, 3)
+                  : -kernelFactors(h).spikyGradient * (h - r) * (h - r) / r;
+}
+
 namespace {
 
 /// The largest eigenvalue of the symmetric 3x3 matrix {xx, yy, zz, xy, xz, yz} (the trigonometric
@@ -108,11 +113,6 @@ std::vector<ViscositySite> artificialViscositySites(const Scene& scene) {
   double mass = calibratedParticleMass(scene);
   if (dfsph) mass *= DFSPHSolver::densityMassScale(densityKernel, scene.solver.kernelSupport);
   const double nu = scene.fluid.artificialViscosity * h * scene.soundSpeed() / scene.fluid.restDensity;
-  const WendlandFactors w = wendlandFactors(h);
-  const KernelFactors k = kernelFactors(h);
-  auto minusGradOverR = [&](double r) {
-    return wendland ? -w.gradient * std::pow(1 - r / h, 3) : -k.spikyGradient * (h - r) * (h - r) / r;
-  };
   std::vector<ViscositySite> sites;
   const int n = int(std::ceil(h / s));
   for (int i = -n; i <= n; ++i)
@@ -120,8 +120,8 @@ std::vector<ViscositySite> artificialViscositySites(const Scene& scene) {
       for (int l = -n; l <= n; ++l) {
         const double r2 = s * s * double(i * i + j * j + l * l);
         if (r2 == 0 || r2 >= h * h) continue;
-        sites.push_back(
-            {{i * s, j * s, l * s}, mass * nu * minusGradOverR(std::sqrt(r2)) / (r2 + 0.01 * h * h)});
+        sites.push_back({{i * s, j * s, l * s},
+                         mass * nu * gradientOverDistance(wendland, std::sqrt(r2), h) / (r2 + 0.01 * h * h)});
       }
   return sites;
 }

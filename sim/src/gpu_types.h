@@ -93,6 +93,10 @@ struct WendlandFactors {
 };
 WendlandFactors wendlandFactors(double h);
 
+/// -W'(r) / r of a solver's gradient kernel at support h, 0 < r < h: Wendland C2's (`wendland`) or the
+/// spiky kernel's, so grad W(d) = -gradientOverDistance(r) d. Positive. Throws nothing.
+double gradientOverDistance(bool wendland, double r, double h);
+
 /// The scene's solver uses Wendland C2 (WCSPH with solver.wcsph.kernel = wendland_c2) rather than the
 /// poly6 / spiky pair.
 bool usesWendland(const Scene& scene);
