@@ -27,9 +27,16 @@ void main() {
   // solve); a frame's first substep uses dt_max (the strictest choice), or the fixed dt.
   error *= simStep.w > 0.0 ? simStep.w : (stateSubsteps > 0u ? stateDt : simLimits.y);
 #endif
+#if defined(DFSPH_CAPPED_TOLERANCE) && !defined(DFSPH_DIVERGENCE)
+  // A step that dt_max or the viscosity's bound set below the depth cap (not the flow) takes the tolerance
+  // scaled to its fall (gpu_types: dfsphCappedDensityTolerance()).
+  float tolerance = stateFlowLimited != 0u ? DFSPH_TOLERANCE : DFSPH_CAPPED_TOLERANCE;
+#else
+  float tolerance = DFSPH_TOLERANCE;
+#endif
   uint it = dfIteration;
   dfLastError = error;
-  if ((it >= uint(DFSPH_MIN_ITER) && error <= DFSPH_TOLERANCE) || it >= uint(DFSPH_MAX_ITER)) {
+  if ((it >= uint(DFSPH_MIN_ITER) && error <= tolerance) || it >= uint(DFSPH_MAX_ITER)) {
     dfOpen = 0u;
     for (uint k = 0u; k < 9u; ++k) dfArgs[k] = 0u;
     uint S = uint(DFSPH_SOLVE);
@@ -38,7 +45,7 @@ void main() {
     dfIterMax[S] = max(dfIterMax[S], it);
     dfErrorSum[S] += error;
     dfErrorMax[S] = max(dfErrorMax[S], error);
-    if (error > DFSPH_TOLERANCE) dfUnconverged[S] += 1u;  // stopped by DFSPH_MAX_ITER
+    if (error > tolerance) dfUnconverged[S] += 1u;  // stopped by DFSPH_MAX_ITER
   } else {
     dfIteration = it + 1u;
   }

@@ -69,6 +69,9 @@ void main() {
   // limit decides the next substep's.
   stateWarmDensity = stateFlowLimited;
   stateWarmSubsteps += stateFlowLimited;
+#endif
+#if defined(DFSPH_WARM_FLOW_LIMITED) || defined(DFSPH_CAPPED_TOLERANCE)
+  // Also this substep's density tolerance (sim_dfsph_reduce.comp).
   stateFlowLimited = simStep.w == 0.0 && dt < simLimits.y ? 1u : 0u;
 #endif
   if (simStep.w == 0.0) dt = min(dt, simLimits.y);

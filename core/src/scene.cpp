@@ -217,7 +217,10 @@ std::shared_ptr<const Object<DfsphSettings>> dfsphSchema() {
   return makeSchema<DfsphSettings>([](Object<DfsphSettings>& o) {
     o.number("max_density_error", &DfsphSettings::maxDensityError, 0.001, "", Range{0, 0.1, true, false},
              "Average density error tolerance of the constant-density solve, as a fraction of rest "
-             "density; lower it for less compression at the cost of iterations.")
+             "density; lower it for less compression at the cost of iterations. In CFL mode the steps "
+             "that time.dt_max or the artificial viscosity's bound set below depth_step_factor's cap solve "
+             "to this times (step / cap)^2, so that one step's fall keeps its ratio to the tolerance "
+             "(docs/simulation.md, Time step).")
         .number("max_divergence_error", &DfsphSettings::maxDivergenceError, 0.001, "",
                 Range{0, 0.1, true, false},
                 "Average divergence error tolerance: mean |D rho/Dt| / rest density times dt, the relative "
@@ -299,8 +302,9 @@ std::shared_ptr<const Object<DfsphSettings>> dfsphSchema() {
                 "spacing. It bounds the first steps from rest; 0.4 allows 16.7 ms at spacing 0.01.")
         .number("depth_step_factor", &DfsphSettings::depthStepFactor, 0.4, "", Range::closed(0, 10),
                 "CFL mode: caps the step at this factor times spacing / sqrt(|g| H), H the domain's extent "
-                "along gravity (sqrt(g H): the speed of gravity waves in the deepest column the domain "
-                "holds); 0 leaves the cap out. A resting column of depth H grows once the step passes about "
+                "along gravity over its walled axes (sqrt(g H): the speed of gravity waves in the deepest "
+                "column the domain holds; gravity along periodic axes alone has no cap); 0 leaves the cap "
+                "out. A resting column of depth H grows once the step passes about "
                 "spacing / sqrt(g H), at any spacing. With cold-started solves in the cap's steps "
                 "(density_warm_steps \"flow_limited\"), 0.4 (2.0 and 1.0 ms in its 0.4 m domain) settles the "
                 "0.3 m tank at spacing 0.01 and 0.005 (docs/validation.md); a solve warm-started in every "
@@ -940,9 +944,14 @@ double Scene::dfsphDepthStep() const {
   const double g = std::hypot(gravity[0], gravity[1], gravity[2]);
   if (solver.method != Solver::DFSPH || time.mode != TimeStepMode::Cfl || factor <= 0 || g <= 0)
     return std::numeric_limits<double>::infinity();
-  double depth = 0;  // the extent along g of the domain's box: sum_k |g_k / |g|| (max_k - min_k)
-  for (size_t k = 0; k < 3; ++k) depth += std::fabs(gravity[k]) / g * (domain.max[k] - domain.min[k]);
-  return factor * fluid.spacing / std::sqrt(g * depth);
+  // g H of the column that the walls hold: sum_k |g_k| (max_k - min_k) over the walled axes. Gravity along
+  // a periodic axis drives a flow, not a column (no cap where it all does).
+  double gDepth = 0;
+  for (int k = 0; k < 3; ++k)
+    if (!domain.isPeriodic(k))
+      gDepth += std::fabs(gravity[size_t(k)]) * (domain.max[size_t(k)] - domain.min[size_t(k)]);
+  if (gDepth <= 0) return std::numeric_limits<double>::infinity();
+  return factor * fluid.spacing / std::sqrt(gDepth);
 }
 
 double Scene::wallViscosityMultiple() const {

@@ -216,6 +216,7 @@ DFSPHSolver::DFSPHSolver(const Scene& scene, const DispatchGate& gate, const Sha
     : gate_(&gate),
       settings_(scene.solver.dfsph),
       kernelSupport_(scene.solver.kernelSupport),
+      cappedDensityTolerance_(dfsphCappedDensityTolerance(scene)),
       particles_(particles),
       groups_(particleGroups(particles)),
       closedPeriodic_(closedPeriodic(scene, particles)),
@@ -519,12 +520,18 @@ SolverFrameReport DFSPHSolver::frameReport() const {
              {"pressure_unconverged", f.unconvergedPressure},
              {"divergence_unconverged", f.unconvergedDivergence}};
   const DfsphSettings& d = settings_;
-  if (f.unconvergedPressure > 0)
+  if (f.unconvergedPressure > 0) {
+    const std::string capped =
+        cappedDensityTolerance_
+            ? fmt::format(", {:.3g} % in the steps below the depth cap", 100 * *cappedDensityTolerance_)
+            : "";
     r.warnings.push_back(fmt::format(
         "{} of {} constant-density solves stopped at solver.dfsph.max_iterations ({}) above "
-        "solver.dfsph.max_density_error ({:.3g} %): mean density error up to {:.3g} %, so the particles "
+        "solver.dfsph.max_density_error ({:.3g} %{}): mean density error up to {:.3g} %, so the particles "
         "end the step compressed; a smaller time.dt_max (or more iterations) lets the solve converge",
-        f.unconvergedPressure, f.solves, d.maxIterations, 100 * d.maxDensityError, 100 * f.maxDensityError));
+        f.unconvergedPressure, f.solves, d.maxIterations, 100 * d.maxDensityError, capped,
+        100 * f.maxDensityError));
+  }
   if (f.unconvergedDivergence > 0)
     r.warnings.push_back(fmt::format(
         "{} of {} divergence solves stopped at solver.dfsph.max_iterations ({}) above "

@@ -16,6 +16,7 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -179,6 +180,7 @@ class DFSPHSolver : public PressureSolver {
   /// compiled into the programs as a #define).
   DfsphSettings settings_;
   double kernelSupport_;
+  std::optional<double> cappedDensityTolerance_;  ///< dfsphCappedDensityTolerance() of the scene
   uint32_t particles_, groups_;
   bool closedPeriodic_;  ///< closedPeriodic(): the partial buffer also holds the group densities
   /// The source pass's residual sums, one per work group (SIM_WORKGROUP_REDUCE) or per particle

@@ -221,6 +221,13 @@ void set4(float* dst, const Vec3d& v, double w) {
 }
 }  // namespace
 
+double stepCap(const Scene& scene) {
+  const double viscosityRate = artificialViscosityRate(scene);
+  const double viscosityStep =
+      viscosityRate > 0 ? 2 / viscosityRate : std::numeric_limits<double>::infinity();
+  return std::min({scene.time.dtMax, scene.dfsphDepthStep(), viscosityStep});
+}
+
 SimParams makeSimParams(const Scene& scene, uint32_t particles, uint32_t boundarySamples,
                         uint32_t dispatchEntries) {
   SimParams p{};
@@ -258,12 +265,7 @@ SimParams makeSimParams(const Scene& scene, uint32_t particles, uint32_t boundar
                                                          : scene.solver.wcsph.forceFactor);
   p.step[3] = fixed ? float(scene.time.dt) : 0.0f;
   p.limits[0] = float(scene.time.dtMin);
-  // The step cap: dt_max, DFSPH's depth step and the artificial viscosity's explicit bound 2 / rate
-  // (WCSPH's acoustic step, ~h / c, is below the bound for alpha up to about 1).
-  const double viscosityRate = artificialViscosityRate(scene);
-  const double viscosityStep =
-      viscosityRate > 0 ? 2 / viscosityRate : std::numeric_limits<double>::infinity();
-  p.limits[1] = float(std::min({scene.time.dtMax, scene.dfsphDepthStep(), viscosityStep}));
+  p.limits[1] = float(stepCap(scene));
   p.limits[2] = float(scene.health.maxDensityRatio * rho0);
   p.limits[3] = float(scene.health.maxSpeed);
   p.counts[0] = particles;
@@ -277,6 +279,13 @@ bool dfsphWarmsFlowLimited(const Scene& scene) {
   const DfsphSettings& d = scene.solver.dfsph;
   return scene.solver.method == Solver::DFSPH && d.densityWarmShare > 0 &&
          d.densityWarmSteps == DfsphWarmSteps::FlowLimited;
+}
+
+std::optional<double> dfsphCappedDensityTolerance(const Scene& scene) {
+  const double depthStep = scene.dfsphDepthStep();
+  const double cap = stepCap(scene);
+  if (!std::isfinite(depthStep) || !(cap < depthStep)) return std::nullopt;
+  return scene.solver.dfsph.maxDensityError * (cap / depthStep) * (cap / depthStep);
 }
 
 ShaderDefines simShaderDefines(const Scene& scene) {
@@ -295,6 +304,8 @@ ShaderDefines simShaderDefines(const Scene& scene) {
   if (scene.solver.method == Solver::DFSPH) d.set("SOLVER_DFSPH");
   if (dfsphWarmsFlowLimited(scene))
     d.set("DFSPH_WARM_FLOW_LIMITED");  // sim_timestep.comp: which limit set dt
+  if (const std::optional<double> tolerance = dfsphCappedDensityTolerance(scene))
+    d.set("DFSPH_CAPPED_TOLERANCE", float(*tolerance));
   if (scene.domain.isPeriodic(0)) d.set("SIM_PERIODIC_X");
   if (scene.domain.isPeriodic(1)) d.set("SIM_PERIODIC_Y");
   if (scene.domain.isPeriodic(2)) d.set("SIM_PERIODIC_Z");

@@ -6,6 +6,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <vector>
 
 #include "sphfx/core/scene.h"
@@ -176,6 +177,18 @@ constexpr int kSimWorkGroup = 64;
 /// DFSPH with solver.dfsph.density_warm_steps "flow_limited" and a warm share (DFSPH_WARM_FLOW_LIMITED):
 /// sim_timestep.comp records which limit set each step, and a frame reports pressure_warm_substeps.
 bool dfsphWarmsFlowLimited(const Scene& scene);
+
+/// The CFL step's upper limit (s): time.dt_max, DFSPH's depth step and the artificial viscosity's explicit
+/// bound 2 / rate (WCSPH's acoustic step, ~h / c, is below that bound for alpha up to about 1).
+double stepCap(const Scene& scene);
+
+/// DFSPH's constant-density tolerance in the steps that dt_max or the artificial viscosity's bound set below
+/// the depth cap (Scene::dfsphDepthStep): solver.dfsph.max_density_error x (that step / the depth step)^2,
+/// so that one step's fall (g dt^2 / d) keeps its ratio to the tolerance at the depth cap, where a
+/// resting column was validated; a looser tolerance lets those solves stop after a few iterations and
+/// the column jitter. Empty where no such step exists (DFSPH_CAPPED_TOLERANCE; sim_timestep.comp then
+/// records which limit set each step, sim_dfsph_reduce.comp reads it).
+std::optional<double> dfsphCappedDensityTolerance(const Scene& scene);
 
 /// Shader variant switches of a scene: EOS, viscosity model, colliders, periodic axes (SIM_PERIODIC_X,
 /// SIM_PERIODIC_Y, SIM_PERIODIC_Z), a varying particle count (SIM_DYNAMIC_COUNT; HAS_EMITTERS,

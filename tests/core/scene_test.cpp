@@ -330,7 +330,9 @@ TEST(Scene, DfsphKernelDensitiesNeedConstraintWalls) {
 
 // solver.dfsph.depth_step_factor caps DFSPH's CFL step at factor d / sqrt(|g| H), H the domain's extent
 // along gravity (here tilted: 0.6 g along y and 0.8 g along x), and only there: factor 0, WCSPH and fixed
-// steps have no cap. A scene without the key keeps its identity (the runs before the key existed).
+// steps have no cap. A periodic axis holds no column: its share of g H drops out, and gravity along
+// periodic axes alone (a channel's driving force) has no cap. A scene without the key keeps its identity
+// (the runs before the key existed).
 TEST(Scene, DfsphDepthStepIsTheGravityWaveCrossingOfTheDomain) {
   Json raw = minimal();  // domain [0, 1]^3 by default
   raw["domain"] = Json::parse(R"({"min": [0, 0, 0], "max": [0.5, 2.0, 1.0]})");
@@ -360,6 +362,12 @@ TEST(Scene, DfsphDepthStepIsTheGravityWaveCrossingOfTheDomain) {
   Json weightless = raw;
   weightless["gravity"] = Json::array({0, 0, 0});
   EXPECT_TRUE(std::isinf(parseScene(weightless, "x.json").dfsphDepthStep()));
+  Json channel = raw;
+  channel["domain"]["periodic"] = Json::array({"x"});
+  EXPECT_NEAR(parseScene(channel, "x.json").dfsphDepthStep(), 0.4 * 0.02 / std::sqrt(6.0 * 2.0), 1e-15)
+      << "only the walled y axis holds a column";
+  channel["gravity"] = Json::array({-10.0, 0.0, 0.0});
+  EXPECT_TRUE(std::isinf(parseScene(channel, "x.json").dfsphDepthStep())) << "gravity along x only";
   Json wcsph = minimal();
   EXPECT_TRUE(std::isinf(parseScene(wcsph, "x.json").dfsphDepthStep()));
 }

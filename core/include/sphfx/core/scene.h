@@ -280,8 +280,8 @@ struct Scene {
   /// rejects a fluid alpha of 0 with walls that have a viscosity of their own).
   double wallViscosityMultiple() const;
   /// DFSPH's depth cap on the step in CFL mode (s): solver.dfsph.depth_step_factor times the spacing over
-  /// sqrt(|g| H), H the domain's extent along gravity; infinity without the cap (factor 0, no gravity,
-  /// fixed steps or WCSPH).
+  /// sqrt(g H), g H = sum_k |g_k| (max_k - min_k) over the walled axes (the column's hydrostatic head);
+  /// infinity without the cap (factor 0, no gravity against a wall, fixed steps or WCSPH).
   double dfsphDepthStep() const;
   /// True if the particle count can change during the run (emitters, kill boxes or open faces).
   bool changesParticleCount() const { return !emitters.empty() || !kill.empty() || !domain.open.empty(); }
