@@ -334,11 +334,11 @@ TEST(Physics, DfsphStiffArtificialViscosityLeavesTheColumnAtRest) {
   EXPECT_LT(last, 0.5e-4 * gH);
 }
 
-// Steps that the artificial viscosity's bound (or dt_max) sets below the depth cap: one step's fall, g dt^2,
-// compresses the column by less than max_density_error, so with that tolerance the density solve stops
-// after a few iterations and the column jitters. Those steps take the tolerance times (step / depth
-// step)^2 (sim::dfsphCappedDensityTolerance()), which keeps the ratio of a step's fall to the tolerance at
-// the depth cap's. The column of DfsphColumnComesToRestAtTheDefaults (10 x 30 x 10 spacings, 2 s) at
+// Steps that the artificial viscosity's bound (or dt_max) sets below the depth cap: one step's fall
+// compresses the column by about g dt^2 / d, less than max_density_error, so with that tolerance the density
+// solve stops after a few iterations and the column jitters. Those steps take the tolerance times (step /
+// depth step)^2 (sim::dfsphCappedDensityTolerance()), which keeps the ratio of a step's fall to the tolerance
+// at the depth cap's. The column of DfsphColumnComesToRestAtTheDefaults (10 x 30 x 10 spacings, 2 s) at
 // fluid.artificial_viscosity 0.3 (steps of about 1.0 ms against the cap's 2.02) meets the suite's rest
 // bound on kinetic energy (measured 6.3e-6 J/kg at 17.2 iterations per substep; with the plain tolerance
 // 7.3e-4 J/kg at 5.1, five times the bound), and the tank at its defaults keeps the plain tolerance.
