@@ -941,11 +941,10 @@ double Scene::soundSpeed() const {
 
 double Scene::dfsphDepthStep() const {
   const double factor = solver.dfsph.depthStepFactor;
-  const double g = std::hypot(gravity[0], gravity[1], gravity[2]);
-  if (solver.method != Solver::DFSPH || time.mode != TimeStepMode::Cfl || factor <= 0 || g <= 0)
+  if (solver.method != Solver::DFSPH || time.mode != TimeStepMode::Cfl || factor <= 0)
     return std::numeric_limits<double>::infinity();
   // g H of the column that the walls hold: sum_k |g_k| (max_k - min_k) over the walled axes. Gravity along
-  // a periodic axis drives a flow, not a column (no cap where it all does).
+  // a periodic axis drives a flow, not a column (no cap where it all does, nor without gravity).
   double gDepth = 0;
   for (int k = 0; k < 3; ++k)
     if (!domain.isPeriodic(k))

@@ -51,12 +51,14 @@ Simulator::Simulator(const Scene& scene, const std::string& shotDir)
   gate_ = std::make_unique<DispatchGate>(capacity_);
   const GridSpec spec = GridSpec::forScene(scene);
   warnIfWallLatticeMisfits(scene);
-  if (const std::optional<double> tolerance = dfsphCappedDensityTolerance(scene))
+  if (const std::optional<double> tolerance = dfsphCappedDensityTolerance(scene)) {
+    const double cap = stepCap(scene);
     logInfo(
         fmt::format("DFSPH: the steps that {} sets, {:.3g} ms, below the depth cap's {:.3g} ms, solve the "
                     "density to {:.3g} (max_density_error x their ratio squared)",
-                    stepCap(scene) < scene.time.dtMax ? "the artificial viscosity's bound" : "time.dt_max",
-                    1e3 * stepCap(scene), 1e3 * scene.dfsphDepthStep(), *tolerance));
+                    cap < scene.time.dtMax ? "the artificial viscosity's bound" : "time.dt_max", 1e3 * cap,
+                    1e3 * scene.dfsphDepthStep(), *tolerance));
+  }
   grid_ = std::make_unique<NeighborGrid>(*gate_, spec, capacity_, dynamic_);
   boundary_ = std::make_unique<BoundaryAkinci2012>(
       wallSamplingScene(scene, boundaryLayers(scene) * scene.fluid.spacing),
