@@ -276,18 +276,19 @@ std::shared_ptr<const Object<DfsphSettings>> dfsphSchema() {
                 "the samples' shares are recomputed every substep and their solve starts cold. A resumed "
                 "run is not bit-identical to an uninterrupted one (the samples' stiffness is not in the "
                 "restart file).")
-        .choice("density_kernel", &DfsphSettings::densityKernel, DfsphDensityKernel::Spiky,
+        .choice("density_kernel", &DfsphSettings::densityKernel, DfsphDensityKernel::WendlandC2,
                 {{"poly6", DfsphDensityKernel::Poly6},
                  {"spiky", DfsphDensityKernel::Spiky},
                  {"wendland_c2", DfsphDensityKernel::WendlandC2}},
-                "Kernel of the fluid's density sum: \"poly6\" (Mueller et al. 2003), while every gradient "
-                "of the solves is the spiky kernel's, so a solve's predicted density change is not the "
-                "change of the sum it corrects; \"spiky\", the kernel of the gradients and of the walls, "
-                "with the particle mass scaled so that the resting lattice sums to the rest density; or "
-                "\"wendland_c2\", Wendland C2 for the density, every gradient of the solves and the walls, "
-                "the mass scaled the same way: a deep resting column keeps its cubic lattice, which the "
-                "spiky kernel lets give way to a denser packing. \"spiky\" and \"wendland_c2\" need walls "
-                "\"constraints\" (push walls with the spiky density burst in the first frame).")
+                "Kernel of the fluid's density sum: \"wendland_c2\", Wendland C2 for the density, every "
+                "gradient of the solves and the walls (WCSPH's kernel), with the particle mass scaled so "
+                "that the resting lattice sums to the rest density: a deep resting column keeps its cubic "
+                "lattice; \"spiky\", the same with the spiky kernel, whose sum is lower on closer "
+                "packings, so a deep resting column's lattice gives way to one (docs/design.md); or "
+                "\"poly6\" (Mueller et al. 2003), while every gradient of the solves is the spiky kernel's, "
+                "so a solve's predicted density change is not the change of the sum it corrects. "
+                "\"wendland_c2\" and \"spiky\" need walls \"constraints\" (push walls with the spiky "
+                "density burst in the first frame).")
         .number("density_wall_push", &DfsphSettings::densityWallPush, 1.5, "", Range::closed(1, 1.75),
                 "Weight of the wall samples in the constant-density solve: above 1 walls push back harder "
                 "than fluid, which keeps particles out of them. Above 1 the solve is not symmetric: in a "
@@ -793,7 +794,7 @@ void checkDfsphWalls(const Scene& s, const Json&, const std::string&) {
                                   "\"poly6\" or solver.dfsph.walls to \"constraints\"",
                                   k == DfsphDensityKernel::Spiky ? "spiky" : "wendland_c2",
                                   k == DfsphDensityKernel::Spiky ? "spiky" : "Wendland C2",
-                                  k == DfsphDensityKernel::Spiky ? ", the default," : ""));
+                                  k == DfsphDensityKernel::WendlandC2 ? ", the default," : ""));
 }
 
 /// Emitters, kill boxes and open faces: the solver, the geometry and the particle limit.
