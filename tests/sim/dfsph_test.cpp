@@ -529,13 +529,12 @@ TEST_F(DFSPH, SolvesStoppedAboveTheirToleranceAreCountedAndReported) {
 }
 
 // The displacement bound alone (solver.dfsph.fall_factor 0.4 = cfl, SPlisHSPlasH's rule) lets the default dam
-// break's first step from rest be half a 30 fps frame, 16.7 ms: more than 20x the seed's 0.7 ms. Before the
-// mirrored walls this step blew up the floor-wall corner (862 particles above 3 m/s in frame 2,
-// docs/design.md "Time step from rest"). Now every solve of the first 0.1 s ends within its tolerance, and no
-// particle is faster than a fall through the column's whole height, sqrt(2 g H) (measured: 1.79 m/s at 0.1
-// s). Without the depth cap (solver.dfsph.depth_step_factor), which holds a column at rest by steps of 0.4 d
-// / sqrt(g H), 1.6 ms here, and with the artificial viscosity and the walls' at half their defaults: the
-// default's step bound (sim::artificialViscosityRate()) is 11.9 ms under the Wendland C2 density.
+// break's first step from rest be half a 30 fps frame, 16.7 ms: more than 20x the seed's 0.7 ms. Every solve
+// of the first 0.1 s ends within its tolerance, and no particle is faster than a fall through the column's
+// whole height, sqrt(2 g H) (measured: 1.79 m/s at 0.1 s). Without the depth cap
+// (solver.dfsph.depth_step_factor), which holds a column at rest by steps of 0.4 d / sqrt(g H), 1.6 ms here,
+// and with the artificial viscosity and the walls' at half their defaults: the default's step bound
+// (sim::artificialViscosityRate()) is 11.9 ms under the Wendland C2 density.
 TEST_F(DFSPH, FrameSizedFirstStepAtTheDefaultSpacingStaysBounded) {
   const Scene s =
       scene("dam_break.json", {"time.end_frame=4", "time.dt_max=0.02", "solver.dfsph.fall_factor=0.4",
