@@ -1,8 +1,8 @@
 #!/bin/sh
 # The GPU path's figures (docs/performance.md, docs/validation.md) on a GPU render node through EGL device:
 # the GL device, WCSPH throughput against particle count, the production stability suite (docs/validation.md)
-# one solver at a time, and the SPlisHSPlasH dam break against the peer on the node's cores (at the defaults,
-# and with the density solve's warm share 0.8, docs/performance.md). Each step has
+# one solver at a time, and the SPlisHSPlasH dam break against the peer on the node's cores (at the defaults
+# at four resolutions, and with the surge settings, docs/performance.md). Each step has
 # its own time limit (seconds, the step's first argument to `step`) so that one slow step leaves the others'
 # figures; everything goes to OUT_DIR/gpu_figures.log and the suite reports to OUT_DIR/stability_SOLVER.md.
 #
@@ -42,7 +42,9 @@ for solver in dfsph wcsph; do
   rm -rf "$out/stability_$solver"
 done
 if [ -n "$peer" ] && [ -d "$peer" ]; then
-  step 90 sh bench/splishsplash_compare.sh "$build" "$peer" /tmp/splishsplash_compare 1 -- --gl egl-device
-  step 90 sh bench/splishsplash_compare.sh "$build" "$peer" /tmp/splishsplash_compare 1 -- --gl egl-device \
-    --set solver.dfsph.density_warm_share=0.8
+  RESOLUTIONS="39 29 19 14" step 120 sh bench/splishsplash_compare.sh "$build" "$peer" \
+    /tmp/splishsplash_compare 1 -- --gl egl-device
+  step 60 sh bench/splishsplash_compare.sh "$build" "$peer" /tmp/splishsplash_compare 1 -- --gl egl-device \
+    --set solver.dfsph.density_warm_share=0.8 --set solver.dfsph.density_warm_steps=all \
+    --set solver.dfsph.depth_step_factor=0 --set time.cfl_factor=1.0
 fi
