@@ -1,6 +1,6 @@
 """bench/front_rms.py against fronts built from the reference table itself: frames midway between the
-table's points, on its linear interpolation, give 0 %; a front 10 % further along gives 10 %; --max-T,
---back and the time scale select the frames."""
+table's points, on its linear interpolation, give 0 %; a front 10 % further along gives 10 %; --min-T,
+--max-T, --back and the time scale select the frames."""
 import importlib.util
 import math
 import os
@@ -42,12 +42,17 @@ class FrontRms(unittest.TestCase):
         last = mid[len(mid) // 2][0]
         limited = front_rms.relative_errors(ahead, table, a, n2, back, last)
         self.assertEqual(len(limited), len(mid) // 2 + 1)
+        late = front_rms.relative_errors(ahead, table, a, n2, back, math.inf, min_T=last)
+        self.assertEqual(len(late), len(mid) - len(mid) // 2)
 
     def test_square_column(self):
         self.check("dam_break_martin_moyce_n1.csv", 1.0, 1.0, -1.95)
 
     def test_tall_column(self):
         self.check("dam_break_martin_moyce_n2.csv", 0.2, 2.0, 0.0)
+
+    def test_long_tank(self):
+        self.check("dam_break_martin_moyce_n2_long.csv", 0.05715, 2.0, 0.0)
 
 
 if __name__ == "__main__":
