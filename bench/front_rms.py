@@ -39,8 +39,13 @@ def compared_frames(front_path, table, a, n2, back, max_T, g=9.81, min_T=0.0):
     return frames
 
 
+def frame_errors(frames):
+    """(Z - Z_ref) / Z_ref of each compared frame."""
+    return [(z - ref) / ref for _, z, ref in frames]
+
+
 def relative_errors(front_path, table, a, n2, back, max_T, g=9.81, min_T=0.0):
-    return [(z - ref) / ref for _, z, ref in compared_frames(front_path, table, a, n2, back, max_T, g, min_T)]
+    return frame_errors(compared_frames(front_path, table, a, n2, back, max_T, g, min_T))
 
 
 def main():
@@ -56,10 +61,10 @@ def main():
     args = parser.parse_args()
     table = read_reference(args.reference)
     frames = compared_frames(args.front, table, args.a, args.n2, args.back, args.max_T, min_T=args.min_T)
-    errors = [(z - ref) / ref for _, z, ref in frames]
+    errors = frame_errors(frames)
     if args.frames:
-        for T, z, ref in frames:
-            print(f"T {T:.2f} Z {z:.3f} Z_ref {ref:.3f} {100 * (z - ref) / ref:+.1f} %")
+        for (T, z, ref), e in zip(frames, errors):
+            print(f"T {T:.2f} Z {z:.3f} Z_ref {ref:.3f} {100 * e:+.1f} %")
     if not errors:
         sys.exit(f"front_rms: {args.front}: no frame inside {args.reference}'s range of T")
     print(f"{100 * math.sqrt(sum(e * e for e in errors) / len(errors)):.2f} {len(errors)}")

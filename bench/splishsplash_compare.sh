@@ -36,14 +36,11 @@ mkdir -p "$out"
 rm -f "$out/wall" "$out/front" "$out/flow"
 
 # The peer's scene at n particles along the column's edge: its own file at 39, else a copy in OUT_DIR
-# whose tank mesh is the package's (SPlisHSPlasH caches the tank's volume map, per radius, in Cache/
-# next to the scene file). Prints the scene's path.
-peer_scene_for() {
-  if [ "$1" = 39 ]; then
-    echo "$peer_scene"
-    return
-  fi
-  python3 - "$peer_scene" "$1" "$out/peer_scene.$1.json" <<'PY'
+# (write_peer_scene) whose tank mesh is the package's (SPlisHSPlasH caches the tank's volume map, per
+# radius, in Cache/ next to the scene file).
+peer_scene_for() { if [ "$1" = 39 ]; then echo "$peer_scene"; else echo "$out/peer_scene.$1.json"; fi; }
+write_peer_scene() {
+  python3 - "$peer_scene" "$1" "$(peer_scene_for "$1")" <<'PY'
 import json, os, sys
 source, n, target = sys.argv[1], int(sys.argv[2]), sys.argv[3]
 scene = json.load(open(source))
@@ -52,15 +49,16 @@ for body in scene.get("RigidBodies", []):
     body["geometryFile"] = os.path.join(os.path.dirname(os.path.abspath(source)), body["geometryFile"])
 json.dump(scene, open(target, "w"), indent=1)
 PY
-  echo "$out/peer_scene.$1.json"
 }
 # sphfx's spacing at n (its scene's own at 39) and the options that set it.
 sphfx_spacing() { if [ "$1" = 39 ]; then echo "$scene_spacing"; else python3 -c "print(1 / $1)"; fi; }
 sphfx_spacing_options() { [ "$1" = 39 ] || echo "--set fluid.spacing=$(sphfx_spacing "$1")"; }
 peer_radius() { python3 -c "print(0.5 / ($1 + 1))"; }
 
-# Computes each scene's volume map once, outside the timed runs (a marker in OUT_DIR for the copies).
+# Writes the copies, and computes each scene's volume map once, outside the timed runs (a marker in
+# OUT_DIR for the copies).
 for n in $resolutions; do
+  [ "$n" = 39 ] || write_peer_scene "$n"
   if [ "$n" = 39 ]; then warmed=$peer/scenes/Cache; else warmed=$out/peer_cache.$n; fi
   [ -e "$warmed" ] && continue
   "$peer/run.sh" "$(peer_scene_for "$n")" "$out/peer_warmup.$n" > /dev/null
