@@ -1,8 +1,8 @@
 // DFSPH non-pressure accelerations: gravity and viscosity (the WCSPH force pass's models without its
-// pressure term), evaluated on the divergence-free velocities, plus the constant-density solve's warm
-// start as a pressure acceleration (sim_dfsph_source.comp) and the walls' hydrostatic push the factor
-// pass left in accel. Reduces max |v|^2 and max |a|^2 of the non-pressure accelerations for the
-// displacement-bounded CFL step (sim_timestep.comp).
+// pressure term, SIM_WALL_FRICTION's walls included), evaluated on the divergence-free velocities, plus
+// the constant-density solve's warm start as a pressure acceleration (sim_dfsph_source.comp) and the
+// walls' hydrostatic push the factor pass left in accel. Reduces max |v|^2 and max |a|^2 of the
+// non-pressure accelerations for the displacement-bounded CFL step (sim_timestep.comp).
 #define DFSPH_LIST_READ
 #include "sph_params.glsl"
 #include "sph_group_max.glsl"
@@ -56,7 +56,10 @@ void viscosityAndWarmPressure(uint i, vec3 xi, vec3 vi, float rhoi, float pi, ou
   }
 #if defined(DFSPH_WALL_LAPLACIAN_SUM)
   wall = -(simViscosity.w * simViscosity.x / rhoi * dfsphBoundary(i).w) * vi;
-#elif defined(SIM_WALL_VISCOSITY)
+#elif defined(SIM_WALL_VISCOSITY) || defined(SIM_WALL_FRICTION)
+#if defined(SIM_WALL_FRICTION)
+  WallDragSums drag = wallDragZero();
+#endif
   SPH_FOR_EACH_CELL_RANGE(xi, row, seam, first, last)
     SPH_FOR_EACH_BOUNDARY(j, first, last) {
       vec4 b = sphFetchBoundaryPos(j);
@@ -69,7 +72,11 @@ void viscosityAndWarmPressure(uint i, vec3 xi, vec3 vi, float rhoi, float pi, ou
 #else
       const vec3 vb = vec3(0.0);  // walls are at rest; only colliders move
 #endif
-#if defined(VISCOSITY_ARTIFICIAL)
+#if defined(SIM_WALL_FRICTION)
+      vec3 grad = dfsphGradAt(d, r);
+      wallDragAdd(drag, b.w, grad, r2, vb,
+                  -(b.w * simViscosity.w * artificialViscosity(vi - vb, d, r2, 2.0 * rhoi)) * grad);
+#elif defined(VISCOSITY_ARTIFICIAL)
       wall -= b.w * artificialViscosity(vi - vb, d, r2, 2.0 * rhoi) * dfsphGradAt(d, r);
 #else
       // As a fluid neighbour of mass psi_b and density rho_i at the wall's velocity (no slip), as in
@@ -78,7 +85,11 @@ void viscosityAndWarmPressure(uint i, vec3 xi, vec3 vi, float rhoi, float pi, ou
 #endif
     }
   SPH_END_FOR_EACH_CELL_RANGE
+#if defined(SIM_WALL_FRICTION)
+  wall = wallDragAcceleration(drag, vi, stateDt);  // the last step's dt (this pass's sets the next)
+#else
   wall *= simViscosity.w;  // the walls' term over the fluid's (Scene::wallViscosityMultiple)
+#endif
 #endif
   visc = fluid + wall;
   pressure = push;

@@ -1,8 +1,9 @@
 // WCSPH pass 3: accelerations. Symmetric pressure force with the scene kernel's gradient (sphGradW),
 // Akinci 2012 boundary samples of volume psi_b with their own pressure (sim_boundary_pressure.comp: the
 // same pair term as between particles, so the walls conserve energy) and their viscosity
-// (SIM_WALL_VISCOSITY), viscosity (VISCOSITY_LAPLACIAN: Mueller et al. 2003; VISCOSITY_ARTIFICIAL:
-// Monaghan), gravity. Reduces max |v|^2 and |a|^2 for the CFL step.
+// (SIM_WALL_VISCOSITY; SIM_WALL_FRICTION: its normal push and a skin friction, sph_kernels.glsl),
+// viscosity (VISCOSITY_LAPLACIAN: Mueller et al. 2003; VISCOSITY_ARTIFICIAL: Monaghan), gravity.
+// Reduces max |v|^2 and |a|^2 for the CFL step.
 #include "sph_params.glsl"
 #include "sph_group_max.glsl"
 #include "sph_neighbors.glsl"
@@ -39,6 +40,10 @@ float artificialViscosity(vec3 vij, vec3 xij, float r2, float rhoSum) {
 // This invocation's neighbours within h (fluid and samples), for the wall contact: the neighbour masks'
 // bit counts, and fluidTerms() and boundaryTerms() for the distance-tested ranges.
 float contactNeighbours = 0.0;
+#endif
+
+#if defined(SIM_WALL_FRICTION)
+WallDragSums wallDrag;  // this invocation's samples within h (sph_kernels.glsl)
 #endif
 
 // Fluid neighbour j (within h, not i) of particle i: acceleration / particle mass.
@@ -85,7 +90,10 @@ vec3 boundaryTerm(uint j, vec3 xi, vec3 vi, float rhoi, float dpi) {
     vec3 grad = sphGradW(d, r);
     // The wall sample's own p_b / rho_b^2 (never negative: no wall suction).
     float coef = dpi + boundaryPressure[j];
-#if defined(SIM_WALL_VISCOSITY) && defined(VISCOSITY_ARTIFICIAL)
+#if defined(SIM_WALL_FRICTION)
+    wallDragAdd(wallDrag, b.w, grad, r2, bvel[j].xyz,
+                -(b.w * simViscosity.w * artificialViscosity(vi - bvel[j].xyz, d, r2, 2.0 * rhoi)) * grad);
+#elif defined(SIM_WALL_VISCOSITY) && defined(VISCOSITY_ARTIFICIAL)
     // Monaghan's term with fluid.wall_viscosity_speed times wall_viscosity_factor in place of alpha c.
     coef += simViscosity.w * artificialViscosity(vi - bvel[j].xyz, d, r2, 2.0 * rhoi);
 #elif defined(SIM_WALL_VISCOSITY) && defined(VISCOSITY_LAPLACIAN)
@@ -144,6 +152,9 @@ void main() {
     vec3 xi = pos[i].xyz, vi = vel[i].xyz;
     vec2 dpi = densityPressure[i];
     vec3 a = simGravity.xyz;
+#if defined(SIM_WALL_FRICTION)
+    wallDrag = wallDragZero();
+#endif
 #if defined(SIM_NEIGHBOR_MASKS)
     uint n = simCounts.x;
 #endif
@@ -171,6 +182,9 @@ void main() {
       a += fluidTerms(i, xi, vi, dpi.x, dpi.y, cellStart[first], cellStart[last]);
       a += boundaryTerms(xi, vi, dpi.x, dpi.y, bStart[first], bStart[last]);
     SPH_END_FOR_EACH_CELL_RANGE
+#if defined(SIM_WALL_FRICTION)
+    a += wallDragAcceleration(wallDrag, vi, stateDt);  // the last step's dt, as the wall contact
+#endif
 #if defined(SIM_WALL_CONTACT)
     // The step's dt is set after this pass (sim_timestep.comp) from its reductions: the contact takes the
     // last step's, which the CFL rule changes little from step to step; it is checked again every step.

@@ -178,3 +178,51 @@ vec3 sphWallContact(vec3 v, vec3 grad, float excess, float sampleRate, float dt)
   return v - (min(over, dt * approach) / (dt * g2)) * grad;
 }
 #endif
+
+#if defined(SIM_WALL_FRICTION)
+// fluid.wall_drag "friction" (artificial model): the walls' Monaghan term pushes only along the walls'
+// normal and only against an approach, and the sliding along them meets a skin friction of coefficient
+// SIM_WALL_FRICTION (c_f), a wall shear stress c_f rho |u_t| u_t / 2 whatever the spacing. Sums over the
+// samples within h: grad = sum psi_b grad W (rho0 times the solid fraction's gradient; its length
+// integrates to rho0 / 2 across the fluid beside a flat wall, which sets the friction's scale), monaghan =
+// the walls' Monaghan acceleration as under "viscous", velocity = sum psi_b W (v_b, 1) (moving colliders).
+struct WallDragSums {
+  vec3 grad;
+  vec3 monaghan;
+  vec4 velocity;
+};
+
+WallDragSums wallDragZero() { return WallDragSums(vec3(0.0), vec3(0.0), vec4(0.0)); }
+
+void wallDragAdd(inout WallDragSums s, float psi, vec3 grad, float r2, vec3 vb, vec3 monaghan) {
+  s.grad += psi * grad;
+  s.monaghan += monaghan;
+#if defined(HAS_COLLIDERS)
+  s.velocity += (psi * sphW(r2)) * vec4(vb, 1.0);
+#endif
+}
+
+// The acceleration on a particle of velocity vi over a step dt (the last step's; 0: none yet). Both parts
+// only take energy: the normal push acts while the particle approaches and stops at most the approach
+// within dt, the friction opposes the sliding and stops at most the sliding within dt.
+vec3 wallDragAcceleration(WallDragSums s, vec3 vi, float dt) {
+  float g = length(s.grad);
+  if (g <= 0.0) return vec3(0.0);
+  vec3 n = -s.grad / g;  // out of the walls
+  vec3 u = vi;
+#if defined(HAS_COLLIDERS)
+  if (s.velocity.w > 0.0) u -= s.velocity.xyz / s.velocity.w;
+#endif
+  float un = dot(u, n);
+  vec3 ut = u - un * n;
+  float rate = SIM_WALL_FRICTION * g / simFluid.x * length(ut);  // 1/s
+  if (dt > 0.0) rate = min(rate, 1.0 / dt);
+  vec3 a = -rate * ut;
+  if (un < 0.0) {
+    float push = max(dot(s.monaghan, n), 0.0);
+    if (dt > 0.0) push = min(push, -un / dt);
+    a += push * n;
+  }
+  return a;
+}
+#endif

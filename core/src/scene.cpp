@@ -171,6 +171,27 @@ std::shared_ptr<const Object<Fluid>> fluidSchema() {
                 "Sensitivity). The default is their defaults' product, 0.02 x 30 m/s.")
         .onlyWhen([](const Fluid& f) { return f.viscosityModel == ViscosityModel::Artificial; },
                   "artificial model")
+        .choice(
+            "wall_drag", &Fluid::wallDrag, WallDrag::Viscous,
+            {{"viscous", WallDrag::Viscous}, {"friction", WallDrag::Friction}},
+            "What the walls' and colliders' Monaghan term acts on: viscous, the whole velocity relative "
+            "to the wall (no slip; its drag reaches into the fluid by the artificial viscosity, alpha h c "
+            "/ 8, so a surge thinned to a few spacings lags: docs/validation.md, Dam-break front over a "
+            "long tank), or friction, the approach alone (it pushes along the walls' normal and never "
+            "pulls), with a skin friction wall_friction on the sliding. Friction holds a long run-out's "
+            "front but leads the first T = 3 of Martin & Moyce's and lets impacts' jets run faster.")
+        .onlyWhen([](const Fluid& f) { return f.viscosityModel == ViscosityModel::Artificial; },
+                  "artificial model")
+        .number("wall_friction", &Fluid::wallFriction, 0.005, "", Range::closed(0, 1),
+                "Skin-friction coefficient c_f of wall_drag friction: the walls' shear stress is c_f rho "
+                "|u_t| u_t / 2 at the sliding speed u_t, shared among the particles within h of the wall "
+                "by the gradient of the walls' kernel sum. 0.005 is a smooth flat plate's at Reynolds "
+                "numbers 1e5-1e6 (turbulent, 0.074 Re^-0.2).")
+        .onlyWhen(
+            [](const Fluid& f) {
+              return f.viscosityModel == ViscosityModel::Artificial && f.wallDrag == WallDrag::Friction;
+            },
+            "artificial model, wall_drag friction")
         .number("wall_contact", &Fluid::wallContact, 0.6, "", Range::closed(0, 1),
                 "Keeps spray and thin sheets off the walls and colliders: a particle with fewer neighbours "
                 "(fluid and samples within h) than this share of a full lattice neighbourhood, where the "
@@ -1155,7 +1176,10 @@ const std::vector<Selector>& selectors() {
        "viscosity_model",
        {{"none", {}},
         {"laplacian", {"viscosity", "wall_viscosity_factor"}},
-        {"artificial", {"artificial_viscosity", "wall_viscosity_factor", "wall_viscosity_speed"}}}},
+        {"artificial",
+         {"artificial_viscosity", "wall_viscosity_factor", "wall_viscosity_speed", "wall_drag",
+          "wall_friction"}}}},
+      {{"fluid"}, "wall_drag", {{"viscous", {}}, {"friction", {"wall_friction"}}}},
       {{"solver", "wcsph"}, "eos", {{"linear", {"stiffness"}}, {"tait", {"gamma"}}}},
   };
   return all;
@@ -1298,6 +1322,8 @@ Json sceneIdentityJson(const Scene& scene) {
   if (scene.limits.maxParticles == int(kMaxParticles)) j.erase("limits");
   if (j["fluid"].contains("wall_viscosity_factor") && scene.fluid.wallViscosityFactor == 1.0)
     j["fluid"].erase("wall_viscosity_factor");  // the walls' viscosity before the factor existed
+  if (j["fluid"].value("wall_drag", "") == "viscous")
+    j["fluid"].erase("wall_drag");  // the walls' term before the choice existed
   const double fluidSpeed = fluidArtificialSpeed(scene);
   if (j["fluid"].contains("wall_viscosity_speed") &&
       std::fabs(scene.fluid.wallViscositySpeed - fluidSpeed) <= 1e-12 * fluidSpeed)

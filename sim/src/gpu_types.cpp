@@ -295,6 +295,8 @@ ShaderDefines simShaderDefines(const Scene& scene) {
   if (scene.fluid.viscosityModel == ViscosityModel::Laplacian) d.set("VISCOSITY_LAPLACIAN");
   if (scene.fluid.viscosityModel == ViscosityModel::Artificial) d.set("VISCOSITY_ARTIFICIAL");
   if (scene.wallViscosityMultiple() > 0) d.set("SIM_WALL_VISCOSITY");
+  if (scene.fluid.viscosityModel == ViscosityModel::Artificial && scene.fluid.wallDrag == WallDrag::Friction)
+    d.set("SIM_WALL_FRICTION", float(scene.fluid.wallFriction));  // sph_kernels.glsl
   if (usesWendland(scene)) d.set("KERNEL_WENDLAND_C2");
   if (!scene.colliders.empty()) d.set("HAS_COLLIDERS");
   if (std::any_of(scene.colliders.begin(), scene.colliders.end(),

@@ -285,6 +285,29 @@ TEST(Scene, IdentityLeavesOutAWallSpeedEqualToTheFluidsAlphaC) {
       << "the defaults: 0.6 m/s = 0.02 x 30 m/s";
 }
 
+// fluid.wall_drag: "viscous" (the walls' term before the choice existed) stays out of a scene's identity;
+// wall_friction is read with "friction" alone, and choosing another viscosity model drops both.
+TEST(Scene, WallFrictionOnlyWithTheFrictionDrag) {
+  Json raw = minimal();
+  const Scene viscous = parseScene(raw, "x.json");
+  EXPECT_EQ(viscous.fluid.wallDrag, WallDrag::Viscous);
+  EXPECT_FALSE(sceneIdentityJson(viscous)["fluid"].contains("wall_drag"));
+  raw["fluid"]["wall_friction"] = 0.01;
+  EXPECT_EQ(
+      errorOf(raw),
+      "x.json: /fluid/wall_friction: not read with these settings (artificial model, wall_drag friction); "
+      "remove it");
+  raw["fluid"]["wall_drag"] = "friction";
+  const Scene friction = parseScene(raw, "x.json");
+  EXPECT_EQ(friction.fluid.wallDrag, WallDrag::Friction);
+  EXPECT_EQ(friction.fluid.wallFriction, 0.01);
+  EXPECT_EQ(sceneIdentityJson(friction)["fluid"]["wall_drag"], "friction");
+  applyOverride(raw, "fluid.viscosity_model=laplacian");
+  EXPECT_FALSE(raw["fluid"].contains("wall_drag"));
+  EXPECT_FALSE(raw["fluid"].contains("wall_friction"));
+  EXPECT_EQ(parseScene(raw, "x.json").fluid.viscosityModel, ViscosityModel::Laplacian);
+}
+
 // solver.dfsph.density_warm_steps qualifies density_warm_share: "flow_limited" by default; with share 0
 // nothing reads it (an error to give, left out of the resolved scene), and "all", what a warm start did
 // before the key existed, keeps a scene's identity.

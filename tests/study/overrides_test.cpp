@@ -64,6 +64,31 @@ TEST(StabilitySuite, ASolverParameterReachesThatSolversRuns) {
   EXPECT_EQ(resolveStabilityScene(suite, first, "wcsph", 0).solver.method, Solver::WCSPH);
 }
 
+// A setting judged with the suite before it becomes a default may mean nothing to some cases:
+// fluid.wall_drag to a case without viscosity. It is left out there; one that no run reads stops the suite.
+TEST(StabilitySuite, AnOverrideACaseDoesNotReadIsLeftOutThere) {
+  StabilitySuite suite = shippedSuite();
+  suite.overrides = {"fluid.wall_drag=friction"};
+  std::vector<std::string> dropped;
+  const Scene inviscid =
+      resolveStabilityScene(suite, caseNamed(suite.cases, "zero_viscosity"), "wcsph", 0, &dropped);
+  EXPECT_EQ(inviscid.fluid.viscosityModel, ViscosityModel::None);
+  EXPECT_EQ(dropped, suite.overrides);
+  dropped.clear();
+  const Scene resting = resolveStabilityScene(suite, caseNamed(suite.cases, "resting"), "dfsph", 0, &dropped);
+  EXPECT_EQ(resting.fluid.wallDrag, WallDrag::Friction);
+  EXPECT_TRUE(dropped.empty());
+  suite.overrides = {"fluid.wall_friction=0.01"};  // read with wall_drag friction alone
+  try {
+    runStabilitySuite(suite, true, "unused", StudyOptions{});
+    FAIL() << "an override that no run reads ran";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("--set fluid.wall_friction=0.01: no run of the suite reads it"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(StabilitySuite, ABadOverrideNamesTheCaseAndSolver) {
   StabilitySuite suite = shippedSuite();
   suite.overrides = {"fluid.no_such_parameter=1"};

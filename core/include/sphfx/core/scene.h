@@ -27,6 +27,9 @@ enum class DfsphDensityKernel { Poly6, Spiky, WendlandC2 };
 /// The substeps whose constant-density solve starts warm (solver.dfsph.density_warm_steps).
 enum class DfsphWarmSteps { All, FlowLimited };
 enum class ViscosityModel { None, Laplacian, Artificial };
+/// The artificial model's walls: Monaghan's term on the whole relative velocity (no slip), or on the
+/// approach alone with a skin friction on the sliding.
+enum class WallDrag { Viscous, Friction };
 enum class TimeStepMode { Fixed, Cfl };
 /// Box and sphere: fluid blocks and colliders; mesh and vdb: colliders only.
 enum class Shape { Box, Sphere, Mesh, Vdb };
@@ -87,6 +90,8 @@ struct Fluid {
   double artificialViscosity = 0;  ///< Monaghan alpha, artificial model
   double wallViscosityFactor = 1;  ///< viscosity between fluid and walls/colliders: 1 no slip, 0 free slip
   double wallViscositySpeed = 0;   ///< artificial model: the walls' alpha c (m/s), apart from the fluid's
+  WallDrag wallDrag = WallDrag::Viscous;  ///< artificial model: what the walls' term acts on
+  double wallFriction = 0;                ///< WallDrag::Friction: skin-friction coefficient c_f
   double wallContact = 0;  ///< below this share of a full neighbourhood: no approach past the resting layer
   std::vector<FluidBlock> blocks;
 };

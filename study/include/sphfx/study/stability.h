@@ -69,16 +69,18 @@ struct StabilityReport {
 };
 
 /// The scene of one run: the case's scene with its overrides, the suite's, the solver, and a fixed `dt`
-/// if > 0.
+/// if > 0. A suite override that the run's settings leave unread (fluid.wall_drag in a case without
+/// viscosity) is left out, and added to `dropped` where given.
 /// @throws InputError as loadScene, naming the case and the solver.
 Scene resolveStabilityScene(const StabilitySuite& suite, const StabilityCase& c, const std::string& solver,
-                            double dt);
+                            double dt, std::vector<std::string>* dropped = nullptr);
 
 /// As studyInputsDigest, for the suite's runs (the quick subset if `quick`).
 std::string stabilityInputsDigest(const StabilitySuite& suite, bool quick);
 
 /// Runs the suite (the quick subset if `quick`) into `outDir` and writes stability.csv and stability.md.
-/// @throws InputError before the first run if any run's scene does not resolve (resolveStabilityScene).
+/// @throws InputError before the first run if any run's scene does not resolve (resolveStabilityScene), or
+/// if no run reads one of the suite's overrides.
 StabilityReport runStabilitySuite(const StabilitySuite& suite, bool quick, const std::string& outDir,
                                   const StudyOptions& options);
 
