@@ -7,8 +7,9 @@
 # walls' drag (fluid.wall_viscosity_factor, which multiplies fluid.wall_viscosity_speed; left out when
 # the common options set it), the time step's factors (time.cfl_factor; WCSPH's force factor, DFSPH's
 # fall factor and depth cap), DFSPH's density tolerance, DFSPH's density warm share (0.5, or the common
-# options' value when above 0: halved, and doubled up to 1), and the surface particles' wall contact (fluid.wall_contact:
-# halved, and doubled up to its largest value, 1).
+# options' value when above 0: halved, and doubled up to 1), the surface particles' wall contact
+# (fluid.wall_contact: halved, and doubled up to its largest value, 1), and with the friction walls
+# (fluid.wall_drag=friction in the common options) their skin friction, fluid.wall_friction (0.005).
 #
 #   sh bench/sensitivity.sh [BUILD_DIR] [OUT_DIR] ["--set KEY=VALUE ..." applied to every run] [SOLVERS]
 #
@@ -37,6 +38,10 @@ case "$common" in
   *wall_viscosity_factor*) wall_factor=no ;;
   *) wall_factor=yes ;;
 esac
+case "$common" in
+  *wall_drag=friction*) friction=yes ;;
+  *) friction=no ;;
+esac
 warm_share=$(printf '%s\n' "$common" | sed -n 's/.*density_warm_share=\([0-9.]*\).*/\1/p')
 warm_share=${warm_share:-0.5}  # DFSPH's default
 case " $solvers " in *" wcsph "*)
@@ -55,6 +60,10 @@ case " $solvers " in *" wcsph "*)
   fi
   run wcsph_contact_0.3 --set fluid.wall_contact=0.3
   run wcsph_contact_1 --set fluid.wall_contact=1
+  if [ "$friction" = yes ]; then
+    run wcsph_friction_0.0025 --set fluid.wall_friction=0.0025
+    run wcsph_friction_0.01 --set fluid.wall_friction=0.01
+  fi
   ;;
 esac
 case " $solvers " in *" dfsph "*)
@@ -77,6 +86,10 @@ case " $solvers " in *" dfsph "*)
   fi
   run dfsph_contact_0.3 --set solver.method=dfsph --set fluid.wall_contact=0.3
   run dfsph_contact_1 --set solver.method=dfsph --set fluid.wall_contact=1
+  if [ "$friction" = yes ]; then
+    run dfsph_friction_0.0025 --set solver.method=dfsph --set fluid.wall_friction=0.0025
+    run dfsph_friction_0.01 --set solver.method=dfsph --set fluid.wall_friction=0.01
+  fi
   if [ -n "$warm_share" ] && python3 -c "import sys; sys.exit(not float('$warm_share') > 0)"; then
     for share in $(python3 -c "s = float('$warm_share'); print(f'{s / 2:g} {min(2 * s, 1):g}')"); do
       run "dfsph_warm_$share" --set solver.method=dfsph --set "solver.dfsph.density_warm_share=$share"
