@@ -1228,6 +1228,21 @@ void migrateSceneJson(Json& raw, const std::string& source) {
   }
 }
 
+bool applyOverrideIfRead(Json& raw, const std::string& assignment) {
+  Json trial = raw;
+  applyOverride(trial, assignment);
+  std::string pointer = "/";
+  for (const char ch : assignment.substr(0, assignment.find('='))) pointer += ch == '.' ? '/' : ch;
+  try {
+    parseScene(trial, "");
+  } catch (const InputError& e) {
+    if (std::string(e.what()).find(pointer + ": not read with these settings") != std::string::npos)
+      return false;
+  }
+  raw = std::move(trial);
+  return true;
+}
+
 void applyOverride(Json& raw, const std::string& assignment) {
   const auto eq = assignment.find('=');
   if (eq == std::string::npos || eq == 0)

@@ -257,22 +257,6 @@ StabilitySuite loadStabilitySuite(const std::string& path) {
   return suite;
 }
 
-namespace {
-/// Whether `raw`, with the override `assignment` applied, reads the key it sets. A key that the case's own
-/// settings leave unread (fluid.wall_drag in a case without viscosity) is one to drop for that case; any
-/// other error (an unknown key, a bad value) is left for the scene's own parse to report.
-bool caseReadsOverride(const Json& raw, const std::string& assignment) {
-  std::string pointer = "/";
-  for (const char ch : assignment.substr(0, assignment.find('='))) pointer += ch == '.' ? '/' : ch;
-  try {
-    parseScene(raw, "");
-  } catch (const InputError& e) {
-    return std::string(e.what()).find(pointer + ": not read with these settings") == std::string::npos;
-  }
-  return true;
-}
-}  // namespace
-
 Scene resolveStabilityScene(const StabilitySuite& suite, const StabilityCase& c, const std::string& solver,
                             double dt, std::vector<std::string>* dropped) {
   const std::string base = (fs::path(suite.directory) / c.scene).string();
@@ -286,14 +270,8 @@ Scene resolveStabilityScene(const StabilitySuite& suite, const StabilityCase& c,
     }
   };
   applyRun(raw);  // first, so that a suite override is judged with the run's solver
-  for (const auto& o : suite.overrides) {
-    Json trial = raw;
-    applyOverride(trial, o);
-    if (caseReadsOverride(trial, o))
-      raw = std::move(trial);
-    else if (dropped)
-      dropped->push_back(o);
-  }
+  for (const auto& o : suite.overrides)
+    if (!applyOverrideIfRead(raw, o) && dropped) dropped->push_back(o);
   applyRun(raw);  // last, as before the suite's overrides: the run's solver and step win
   return parseScene(raw, base + " (stability case " + c.name + ", " + solver + ")");
 }

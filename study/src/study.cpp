@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <set>
 
 #include "metrics.h"
@@ -74,19 +75,24 @@ std::string studyInputsDigest(const StudySpec& spec) {
   return fnv1aHex(text);
 }
 
-Scene resolveRunScene(const StudySpec& spec, const StudyCase& c, const GridPoint& point) {
+Scene resolveRunScene(const StudySpec& spec, const StudyCase& c, const GridPoint& point,
+                      std::vector<std::string>* dropped) {
   const std::string base = (fs::path(spec.directory) / c.scene).string();
   Json raw = schema::readJsonFile(base, "scene");
   for (const auto& o : c.set) applyOverride(raw, o);
+  const auto applyPoint = [&](Json& j) {
+    for (const auto& [path, value] : point) applyOverride(j, path + "=" + valueText(value));
+  };
+  applyPoint(raw);  // first, so that an override is judged with the run's settings (its solver)
   for (const auto& o : spec.overrides) {
     const std::string path = o.substr(0, o.find('='));
     for (const Axis& a : c.axes)
       if (a.path == path)
         throw InputError(
             fmt::format("--set {}: {} is an axis of study case {}; the study varies it", o, path, c.name));
-    applyOverride(raw, o);
+    if (!applyOverrideIfRead(raw, o) && dropped) dropped->push_back(o);
   }
-  for (const auto& [path, value] : point) applyOverride(raw, path + "=" + valueText(value));
+  applyPoint(raw);  // last, as before the overrides
   return parseScene(raw, base + " (case " + c.name + ")");
 }
 
@@ -96,8 +102,25 @@ std::vector<RunResult> runStudy(const StudySpec& spec, const std::string& outDir
   size_t total = 0;
   for (const StudyCase& c : spec.cases) total += gridPoints(c).size();
   // Every run's scene first, so that a bad override stops the study before its first run, not hours in.
+  // An override that no run reads is a mistake; one that some runs' settings leave unread is left out of
+  // those (fluid.wall_drag in a case with the laplacian viscosity).
+  std::map<std::string, int> readBy;
+  std::vector<std::string> notes;
   for (const StudyCase& c : spec.cases)
-    for (const auto& point : gridPoints(c)) resolveRunScene(spec, c, point);
+    for (const auto& point : gridPoints(c)) {
+      std::vector<std::string> dropped;
+      resolveRunScene(spec, c, point, &dropped);
+      for (const auto& o : spec.overrides)
+        if (std::find(dropped.begin(), dropped.end(), o) == dropped.end()) ++readBy[o];
+      for (const auto& o : dropped)
+        notes.push_back(
+            fmt::format("--set {}: not read by a run of study case {}; left out there", o, c.name));
+    }
+  for (const auto& o : spec.overrides)
+    if (readBy[o] == 0)
+      throw InputError(fmt::format("--set {}: no run of the study reads it with its settings", o));
+  notes.erase(std::unique(notes.begin(), notes.end()), notes.end());
+  for (const auto& note : notes) logInfo(note);
   Progress progress("study " + spec.name, int64_t(total));
   fs::create_directories(outDir);
   for (const StudyCase& c : spec.cases) {

@@ -4,12 +4,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <functional>
 #include <numbers>
 #include <numeric>
 #include <optional>
-#include <sstream>
 
 #include "boundary_akinci2012.h"
 #include "gpu_types.h"
@@ -525,23 +523,9 @@ TEST(Physics, CachedDensityIsThatOfTheCachedPositions) {
   EXPECT_LT(worst, 1e-4);
 }
 
-std::vector<std::pair<double, double>> readMartinMoyce() {
-  std::ifstream in(std::string(SPHFX_SOURCE_DIR) + "/studies/reference/dam_break_martin_moyce_n2.csv");
-  std::vector<std::pair<double, double>> rows;
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.empty() || line[0] == '#' || line[0] == 'T') continue;
-    std::replace(line.begin(), line.end(), ',', ' ');
-    std::istringstream row(line);
-    double t, z;
-    if (row >> t >> z) rows.push_back({t, z});
-  }
-  return rows;
-}
-
 TEST(Physics, DamBreakFrontFollowsMartinMoyce) {
   auto ctx = test::makeContext();
-  const auto reference = readMartinMoyce();
+  const auto reference = test::readFrontTable("dam_break_martin_moyce_n2.csv");
   ASSERT_GE(reference.size(), 10u) << "missing studies/reference/dam_break_martin_moyce_n2.csv";
   // CI resolution: a = 0.2 m, spacing a/10 (2000 particles), 60 fps for a finely sampled front.
   const Scene scene = loadScene(std::string(SPHFX_SOURCE_DIR) + "/scenes/dam_break.json",

@@ -8,8 +8,10 @@
 #include <bit>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <memory>
 #include <set>
+#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -63,6 +65,21 @@ inline std::string simulateTestShot(const std::string& name, const Scene& scene,
 /// A scene from JSON text with the given overrides.
 inline Scene sceneFromJson(const std::string& text) {
   return parseScene(schema::Json::parse(text), "test");
+}
+
+/// The (T, Z) rows of a front table shipped in studies/reference (Martin & Moyce's, sources in its header).
+inline std::vector<std::pair<double, double>> readFrontTable(const std::string& file) {
+  std::ifstream in(std::string(SPHFX_SOURCE_DIR) + "/studies/reference/" + file);
+  std::vector<std::pair<double, double>> rows;
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#' || line[0] == 'T') continue;
+    std::replace(line.begin(), line.end(), ',', ' ');
+    std::istringstream row(line);
+    double t, z;
+    if (row >> t >> z) rows.push_back({t, z});
+  }
+  return rows;
 }
 
 /// Sum of the particles' velocities (momentum / particle mass).

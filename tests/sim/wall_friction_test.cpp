@@ -7,8 +7,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -54,21 +52,6 @@ TEST_P(WallFriction, SlidingLayerLosesMomentumAtTheSkinFrictionLaw) {
   }
 }
 
-// Martin & Moyce's a = 2.25 in front, (T, Z), from the shipped table (its source in the file's header).
-std::vector<std::pair<double, double>> readLongFront() {
-  std::ifstream in(std::string(SPHFX_SOURCE_DIR) + "/studies/reference/dam_break_martin_moyce_n2_long.csv");
-  std::vector<std::pair<double, double>> rows;
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.empty() || line[0] == '#' || line[0] == 'T') continue;
-    std::replace(line.begin(), line.end(), ',', ' ');
-    std::istringstream row(line);
-    double t, z;
-    if (row >> t >> z) rows.push_back({t, z});
-  }
-  return rows;
-}
-
 // Z_ref at T, linear between the table's rows; NaN outside them.
 double frontAt(const std::vector<std::pair<double, double>>& table, double T) {
   for (size_t k = 1; k < table.size(); ++k)
@@ -81,7 +64,7 @@ double frontAt(const std::vector<std::pair<double, double>>& table, double T) {
 // RMS of (Z - Z_ref) / Z_ref over the frames at T >= 6 of studies/scenes/dam_break_long.json (spacing a/10),
 // with the front as bench/dam_front measures it: the (1 + n/1000)-th largest x plus half a spacing.
 double lateFrontError(const Scene& scene) {
-  const auto table = readLongFront();
+  const auto table = test::readFrontTable("dam_break_martin_moyce_n2_long.csv");
   const double a = 0.05715, g = 9.81;
   sim::Simulator sim(scene);
   double sum = 0;

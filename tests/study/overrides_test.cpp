@@ -1,6 +1,7 @@
 // Overrides for every run of the stability suite (`sphfx stability --set`) and of a study (`sphfx study
 // --set`): applied after each case's own and before the run's solver or grid point, seen by the reports'
-// digests, and a bad one is an error naming the case (and the solver) before any run.
+// digests, left out of the runs whose settings do not read them, and a bad one (or one that no run reads)
+// is an error naming the case (and the solver) before any run.
 #include <gtest/gtest.h>
 
 #include "sphfx/core/error.h"
@@ -116,6 +117,31 @@ TEST(StudyOverrides, FollowTheCaseAndPrecedeTheGridPoint) {
       resolveRunScene(spec, dam, pointWith(dam, "solver.method", "dfsph")).solver.dfsph.jacobiMomentum, 0.7);
   EXPECT_EQ(resolveRunScene(spec, dam, pointWith(dam, "solver.method", "wcsph")).solver.method,
             Solver::WCSPH);
+}
+
+// As the suite's: an override that a run's settings leave unread is left out of that run (the quick
+// study's Poiseuille case has the laplacian viscosity, which reads no fluid.wall_drag).
+TEST(StudyOverrides, AnOverrideARunDoesNotReadIsLeftOutThere) {
+  StudySpec spec = quickStudy();
+  spec.overrides = {"fluid.wall_drag=friction"};
+  const StudyCase& poiseuille = caseNamed(spec.cases, "poiseuille");
+  std::vector<std::string> dropped;
+  const Scene laplacian = resolveRunScene(spec, poiseuille, gridPoints(poiseuille).front(), &dropped);
+  EXPECT_EQ(laplacian.fluid.viscosityModel, ViscosityModel::Laplacian);
+  EXPECT_EQ(dropped, spec.overrides);
+  dropped.clear();
+  const StudyCase& dam = caseNamed(spec.cases, "dam_break");
+  EXPECT_EQ(resolveRunScene(spec, dam, gridPoints(dam).front(), &dropped).fluid.wallDrag, WallDrag::Friction);
+  EXPECT_TRUE(dropped.empty());
+  spec.overrides = {"fluid.wall_friction=0.01"};  // read with wall_drag friction alone
+  try {
+    runStudy(spec, "unused", StudyOptions{});
+    FAIL() << "an override that no run reads ran";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("--set fluid.wall_friction=0.01: no run of the study reads it"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(StudyOverrides, AnAxisIsNotOverridden) {

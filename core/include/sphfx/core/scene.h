@@ -305,6 +305,13 @@ const schema::Object<Scene>& sceneSchema();
 /// @throws InputError if the text has no '=' or the path runs through a non-object value.
 void applyOverride(schema::Json& raw, const std::string& assignment);
 
+/// applyOverride, unless the scene's other choices leave the key it sets unread (fluid.wall_drag under
+/// viscosity_model "none"): then `raw` is left as it was and the result is false. Any other error of the
+/// resulting scene is left for its own parse to report. Suites and studies apply their overrides so, to
+/// leave one out of the runs whose settings do not read it.
+/// @throws InputError as applyOverride.
+bool applyOverrideIfRead(schema::Json& raw, const std::string& assignment);
+
 /// Moves keys of older scene files to where they are declared now (solver.eos -> solver.wcsph.eos,
 /// solver.max_iterations -> solver.dfsph.max_iterations, time.fall_factor -> solver.dfsph.fall_factor,
 /// ...), logging a warning for each. `source` names the input in the warnings.

@@ -57,8 +57,11 @@ using GridPoint = std::vector<std::pair<std::string, Json>>;
 /// Every run of a case: the Cartesian product of its axes, the first axis varying slowest.
 std::vector<GridPoint> gridPoints(const StudyCase& studyCase);
 /// The scene a run simulates: the case's scene file, its "set" overrides, the study's, then the grid point.
+/// A study override that the run's settings leave unread (applyOverrideIfRead) is left out, and added to
+/// `dropped` where given.
 /// @throws InputError if the file is unreadable or the resulting scene is invalid (names case and path).
-Scene resolveRunScene(const StudySpec& spec, const StudyCase& studyCase, const GridPoint& point);
+Scene resolveRunScene(const StudySpec& spec, const StudyCase& studyCase, const GridPoint& point,
+                      std::vector<std::string>* dropped = nullptr);
 
 /// A digest (16 hex digits, FNV-1a) of everything a study's report depends on besides the code: the
 /// study's name and every run's resolved scene, defaults included. The report states it, so a test can
@@ -135,7 +138,8 @@ struct StudyOptions {
 
 /// Runs every case of the study into `outDir` and writes results.csv, error_vs_time.png (if gnuplot is
 /// installed; a warning otherwise) and report.md. Returns the results.
-/// @throws InputError for bad studies, IoError if outDir cannot be written.
+/// @throws InputError for bad studies (an override that no run reads included), IoError if outDir cannot
+/// be written.
 std::vector<RunResult> runStudy(const StudySpec& spec, const std::string& outDir,
                                 const StudyOptions& options);
 
