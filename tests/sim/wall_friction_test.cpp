@@ -88,7 +88,7 @@ double lateFrontError(const Scene& scene) {
 
 // The default walls' drag reaches through a layer one or two spacings deep by the artificial viscosity and
 // holds the surge back (22-24 % at T >= 6, docs/validation.md); the friction walls' drag does not grow as
-// the layer thins. 10 %: the late front within a tenth of the experiment's, as docs/simulation.md states.
+// the layer thins. 10 %: the late front within a tenth of the experiment's, as docs/validation.md states.
 TEST_P(WallFriction, LongTankFrontKeepsMartinMoyceToZ14) {
   auto ctx = test::makeContext();
   const std::string scene = std::string(SPHFX_SOURCE_DIR) + "/studies/scenes/dam_break_long.json";
