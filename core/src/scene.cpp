@@ -185,8 +185,8 @@ std::shared_ptr<const Object<Fluid>> fluidSchema() {
         .number("wall_friction", &Fluid::wallFriction, 0.005, "", Range::closed(0, 1),
                 "Skin-friction coefficient c_f of wall_drag friction: the walls' shear stress is c_f rho "
                 "|u_t| u_t / 2 at the sliding speed u_t, shared among the particles within h of the wall "
-                "by the gradient of the walls' kernel sum. 0.005 is a smooth flat plate's at Reynolds "
-                "numbers 1e5-1e6 (turbulent, 0.074 Re^-0.2).")
+                "by the gradient of the walls' kernel sum. 0.005 is a smooth flat plate's turbulent "
+                "0.074 Re^-0.2 at Re = 7e5 (0.0074 at 1e5, 0.0047 at 1e6).")
         .onlyWhen(
             [](const Fluid& f) {
               return f.viscosityModel == ViscosityModel::Artificial && f.wallDrag == WallDrag::Friction;
