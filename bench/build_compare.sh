@@ -7,7 +7,8 @@
 #   sh bench/build_compare.sh BUILD_A BUILD_B [OUT_DIR] [ROUNDS] [-- sphfx simulate options]
 #
 # Each BUILD holds cli/sphfx and bench/dam_front. OPTS_A and OPTS_B (environment) add options to one
-# build's runs only, so that one build with and without a setting compares the same way.
+# build's runs only, so that one build with and without a setting compares the same way. SCENES
+# (environment) replaces the scene list, e.g. SCENES="scenes/showcase.json scenes/nozzle.json".
 # Prints one line per run, then the median ratios B / A.
 set -eu
 a=$1
@@ -39,7 +40,7 @@ run() {
 
 round=1
 while [ "$round" -le "$rounds" ]; do
-  for scene in scenes/dam_break.json scenes/showcase.json; do
+  for scene in ${SCENES:-scenes/dam_break.json scenes/showcase.json}; do
     # shellcheck disable=SC2086 # OPTS_A and OPTS_B are lists of options
     run "$a" A "$scene" "$round" "$@" ${OPTS_A:-}
     # shellcheck disable=SC2086

@@ -76,6 +76,10 @@ void addInspectCommand(CLI::App& app) {
     printStates(states, scene.fluid.spacing, *every);
     for (const auto& name : *criteria) {
       const auto r = study::judge(study::parseCriterion(name), states, scene);
+      if (!r.judged) {
+        std::printf("%-7s -: %s (%s)\n", name.c_str(), r.measured.c_str(), r.bound.c_str());
+        continue;
+      }
       std::printf("%-7s %s: %s (bound %s; worst at frame %d)\n", name.c_str(), r.passed ? "pass" : "FAIL",
                   r.measured.c_str(), r.bound.c_str(), r.worstFrame);
     }

@@ -38,7 +38,7 @@ vec3 velocityChange(uint i, float ki) {
   uint walls = dfsphBoundaryCount(i);
   for (uint k = 0u; k < walls; ++k) {
     vec4 e = dfsphBoundaryEntry(i, k);
-    dv -= dfsphIncrement(simCounts.x + floatBitsToUint(e.w)) * e.xyz;
+    dv -= dfsphIncrement(DFSPH_CAPACITY + floatBitsToUint(e.w)) * e.xyz;
   }
 #endif
   return dv;

@@ -35,9 +35,13 @@ layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_INCREMENT) writeonly buffer DfsphI
 #endif
 
 // Whether a lattice site lies between the walls: a periodic axis has none (the fluid continues across
-// its seam).
+// its seam), and an open face none on its side (the fluid flows on past it).
 bool insideDomain(vec3 site) {
   vec3 lo = simDomainMin.xyz, hi = simDomainMax.xyz;
+#if defined(SIM_OPEN_FACES)
+  lo -= 1e30 * vec3((SIM_OPEN_FACES & 1) != 0, (SIM_OPEN_FACES & 4) != 0, (SIM_OPEN_FACES & 16) != 0);
+  hi += 1e30 * vec3((SIM_OPEN_FACES & 2) != 0, (SIM_OPEN_FACES & 8) != 0, (SIM_OPEN_FACES & 32) != 0);
+#endif
   bool x = site.x > lo.x && site.x < hi.x, y = site.y > lo.y && site.y < hi.y,
        z = site.z > lo.z && site.z < hi.z;
 #if defined(SIM_PERIODIC_X)
@@ -114,7 +118,7 @@ void main() {
   if (b >= simCounts.y) return;
   vec4 xb = sphFetchBoundaryPos(b);
   float psi = xb.w * dfsphWallScale(xb.xyz);
-  uint at = simCounts.x + b;
+  uint at = DFSPH_CAPACITY + b;
 #if defined(DFSPH_BOUNDARY_REST_SHARE)
   dfsph[at].w = psi * restShare(xb.xyz);
 #else
@@ -137,7 +141,7 @@ void main() {
     }
   SPH_END_FOR_EACH_CELL_RANGE
   if (listed > uint(DFSPH_MAX_NEIGHBORS)) atomicOr(stateFailure, SIM_FAIL_NEIGHBORS);
-  dfCount[simCounts.x + b] = min(listed, uint(DFSPH_MAX_NEIGHBORS));
+  dfCount[DFSPH_CAPACITY + b] = min(listed, uint(DFSPH_MAX_NEIGHBORS));
   bool nearFluid = squares > 1e-20;
   if (nearFluid) {
     uint k = atomicAdd(dfWetCount, 1u);

@@ -17,7 +17,7 @@ layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_INCREMENT) buffer DfsphIncrement {
 void main() {
   uint w = sphfxGlobalIndex();
   if (w >= dfWetCount || dfOpen == 0u) return;
-  uint b = dfWet[w], at = simCounts.x + b;
+  uint b = dfWet[w], at = DFSPH_CAPACITY + b;
 #if defined(DFSPH_BOUNDARY_APPLY)
   dfsph[at].z += increment[at];
 #else

@@ -36,7 +36,7 @@ void main() {
 #endif
   if (live) {
     vec3 xi = sphFetchPos(i).xyz;
-    uint n = simCounts.x, listed = 0u, blisted = 0u;
+    uint n = DFSPH_CAPACITY, listed = 0u, blisted = 0u;
 #if defined(DFSPH_KERNEL_DENSITY)
     const float m = simGravity.w * DFSPH_KERNEL_DENSITY;
 #else

@@ -36,7 +36,7 @@ void viscosityAndWarmPressure(uint i, vec3 xi, vec3 vi, float rhoi, float pi, ou
   uint walls = dfsphBoundaryCount(i);
   for (uint k = 0u; k < walls; ++k) {
     vec4 e = dfsphBoundaryEntry(i, k);
-    push -= dfsphParticle(simCounts.x + floatBitsToUint(e.w)).z * e.xyz;
+    push -= dfsphParticle(DFSPH_CAPACITY + floatBitsToUint(e.w)).z * e.xyz;
   }
 #endif
   for (uint k = 0u; k < count; ++k) {

@@ -20,7 +20,7 @@ void main() {
     if (l < w) sums[l] += sums[l + w];
   }
   if (l != 0u) return;
-  float error = sums[0] / float(simCounts.x);
+  float error = sums[0] / float(max(simCounts.x, 1u));  // (a varying count may be 0)
 #if defined(DFSPH_DIVERGENCE)
   // The divergence error as the relative density change it causes over one time step (SPlisHSPlasH's
   // criterion): mean |D rho/Dt| / rho0 * dt. dt is the last substep's (this substep's is chosen after the

@@ -5,6 +5,17 @@
 // by -m sum (K_i + K_j) grad W. Both are independent of the time step, so they warm-start the next step.
 #include "sph_textures.glsl"
 
+// The particles the buffers hold: where the wall samples' entries start in the buffers indexed by
+// particles and then samples (dfsph, the increments, dfCount, dfBoundary's second half), and the stride of
+// the lists' slots. With a varying count (SIM_DYNAMIC_COUNT, sph_params.glsl) simCounts.x is the live
+// count while the capacity stays fixed, so a sample's rest share and warm start keep their place as
+// particles come and go.
+#if defined(SIM_DYNAMIC_COUNT)
+#define DFSPH_CAPACITY simParamsCapacity()
+#else
+#define DFSPH_CAPACITY simCounts.x
+#endif
+
 // x: the constant-density solve's factor alpha_i / rho_i, 1 / (g . (g + (c - 1) sum_b psi_b grad W_ib) +
 // sum_j |m grad W_ij|^2) with g = sum_j m grad W_ij + sum_b psi_b grad W_ib (its walls push c =
 // DFSPH_DENSITY_WALL_PUSH times; psi_b here includes dfsphWallScale()); y: the divergence solve's,
@@ -88,7 +99,14 @@ float dfsphW(float r) {
 
 #if defined(DFSPH_WALL_SPIKY_FACE)
 float dfsphWallScale(vec3 xb) {
-  vec3 beyond = step(simDomainMax.xyz, xb) + step(xb, simDomainMin.xyz);
+  vec3 above = step(simDomainMax.xyz, xb), below = step(xb, simDomainMin.xyz);
+#if defined(SIM_OPEN_FACES)
+  // An open face has no wall: the walls beside it continue past it (their samples there are theirs).
+  // Bit 2 a + side: the face of axis a on side 0 (min) or 1 (max).
+  below *= vec3((SIM_OPEN_FACES & 1) == 0, (SIM_OPEN_FACES & 4) == 0, (SIM_OPEN_FACES & 16) == 0);
+  above *= vec3((SIM_OPEN_FACES & 2) == 0, (SIM_OPEN_FACES & 8) == 0, (SIM_OPEN_FACES & 32) == 0);
+#endif
+  vec3 beyond = above + below;
   float walls = beyond.x + beyond.y + beyond.z;
   return walls > 2.5 ? DFSPH_WALL_SPIKY_CORNER : (walls > 1.5 ? DFSPH_WALL_SPIKY_EDGE : DFSPH_WALL_SPIKY_FACE);
 }
@@ -120,11 +138,11 @@ float dfsphWallScale(vec3 xb) {
 // Neighbour lists, built once per substep by sim_dfsph_factor.comp and read by every solver iteration,
 // so that an iteration visits the ~30 neighbours of a particle instead of the ~200 candidates of its
 // 27 cells, and evaluates no kernel. The writer (sim_dfsph_factor.comp) uses the storage blocks below,
-// the readers the buffer-texture views (dfsphEntry() etc.). Slot k of sorted particle i is entry
-// k * N + i (adjacent invocations read adjacent entries). DFSPH_MAX_NEIGHBORS slots per particle (sized
-// from the scene's packing, DFSPHSolver::listSlots) and one spare (the factor pass writes every
-// candidate to the slot after the last neighbour); a particle with more fluid neighbours stops the run
-// with a clear error (SIM_FAIL_NEIGHBORS) rather than losing neighbours.
+// the readers the buffer-texture views (dfsphEntry() etc.). Slot k of sorted particle i is entry k * N + i,
+// N = DFSPH_CAPACITY here and below (adjacent invocations read adjacent entries). DFSPH_MAX_NEIGHBORS
+// slots per particle (sized from the scene's packing, DFSPHSolver::listSlots) and one spare (the factor
+// pass writes every candidate to the slot after the last neighbour); a particle with more fluid
+// neighbours stops the run with a clear error (SIM_FAIL_NEIGHBORS) rather than losing neighbours.
 //   dfNbr[k * N + i]: xyz = m grad W(x_i - x_j), w = j (uint bits)
 //   dfCount[i]: fluid neighbours of i in the list (low 16 bits; constraint walls: wall entries above)
 //   dfBoundary[i]: xyz = sum_b psi_b grad W(x_i - x_b), w = sum_b psi_b v_b . grad W(x_i - x_b)
@@ -148,7 +166,7 @@ layout(binding = SPHFX_TEX_SIM_DFSPH_INCREMENT) uniform samplerBuffer dfIncremen
 layout(binding = SPHFX_TEX_SIM_DFSPH_PARTICLE) uniform samplerBuffer dfParticleTex;
 layout(binding = SPHFX_TEX_SIM_DFSPH_COUNT) uniform usamplerBuffer dfCountTex;
 layout(binding = SPHFX_TEX_SIM_DFSPH_BOUNDARY) uniform samplerBuffer dfBoundaryTex;
-vec4 dfsphEntry(uint i, uint k) { return texelFetch(dfNbrTex, int(k * simCounts.x + i)); }
+vec4 dfsphEntry(uint i, uint k) { return texelFetch(dfNbrTex, int(k * DFSPH_CAPACITY + i)); }
 float dfsphIncrement(uint j) { return texelFetch(dfIncrementTex, int(j)).x; }
 // Per-particle values read through the views too (one gather instead of a load per lane on llvmpipe;
 // a pass may read its own particle's value this way before writing it through the storage block).
@@ -160,12 +178,12 @@ uint dfsphCount(uint i) { return texelFetch(dfCountTex, int(i)).x & 0xffffu; }
 // increment N + b) follows the particles'. dfCount's high 16 bits hold the wall entries' count.
 uint dfsphBoundaryCount(uint i) { return texelFetch(dfCountTex, int(i)).x >> 16u; }
 vec4 dfsphBoundaryEntry(uint i, uint k) {
-  return texelFetch(dfNbrTex, int((uint(DFSPH_MAX_NEIGHBORS) - 1u - k) * simCounts.x + i));
+  return texelFetch(dfNbrTex, int((uint(DFSPH_MAX_NEIGHBORS) - 1u - k) * DFSPH_CAPACITY + i));
 }
 #endif
 vec4 dfsphBoundary(uint i) { return texelFetch(dfBoundaryTex, int(i)); }
 #if defined(SIM_WALL_CONTACT)
-float dfsphWallContactExcess(uint i) { return texelFetch(dfBoundaryTex, int(simCounts.x + i)).x; }
+float dfsphWallContactExcess(uint i) { return texelFetch(dfBoundaryTex, int(DFSPH_CAPACITY + i)).x; }
 #endif
 #endif
 #if defined(DFSPH_LIST_WRITE)
@@ -183,11 +201,11 @@ layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_BOUNDARY) writeonly buffer DfsphBo
 // as the particles'; its count is dfCount[N + b].
 //   xyz = psi_b grad W(x_f - x_b) (the particle's wall entry for b), w = f (uint bits)
 uint dfsphSampleSlot(uint b, uint k) {
-  return simCounts.x * uint(DFSPH_MAX_NEIGHBORS + 1) + k * simCounts.y + b;
+  return DFSPH_CAPACITY * uint(DFSPH_MAX_NEIGHBORS + 1) + k * simCounts.y + b;
 }
 #if defined(DFSPH_LIST_READ)
 vec4 dfsphSampleEntry(uint b, uint k) { return texelFetch(dfNbrTex, int(dfsphSampleSlot(b, k))); }
-uint dfsphSampleCount(uint b) { return texelFetch(dfCountTex, int(simCounts.x + b)).x; }
+uint dfsphSampleCount(uint b) { return texelFetch(dfCountTex, int(DFSPH_CAPACITY + b)).x; }
 #endif
 #endif
 

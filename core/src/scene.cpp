@@ -87,7 +87,7 @@ std::shared_ptr<const Object<Domain>> domainSchema() {
                      {"z-", DomainFace::ZMin},
                      {"z+", DomainFace::ZMax}},
                     "Open faces (outflow): no wall and no clamp there; a particle that leaves the domain "
-                    "through an open face is removed. WCSPH only; not on a periodic axis.")
+                    "through an open face is removed. Not on a periodic axis.")
         .check([](const Domain& d, const Json&, const std::string& path) {
           for (int a = 0; a < 3; ++a)
             if (!(d.min[a] < d.max[a]))
@@ -818,14 +818,9 @@ void checkDfsphWalls(const Scene& s, const Json&, const std::string&) {
                                   k == DfsphDensityKernel::WendlandC2 ? ", the default," : ""));
 }
 
-/// Emitters, kill boxes and open faces: the solver, the geometry and the particle limit.
+/// Emitters, kill boxes and open faces: the geometry and the particle limit.
 void checkEmittersAndRemoval(const Scene& s, const Json&, const std::string&) {
   if (!s.changesParticleCount()) return;
-  const std::string what = !s.emitters.empty() ? "/emitters" : !s.kill.empty() ? "/kill" : "/domain/open";
-  if (s.solver.method != Solver::WCSPH)
-    throw SchemaError(what,
-                      "emitters, kill boxes and open faces need solver.method \"wcsph\" (the dfsph "
-                      "solver keeps a constant particle count)");
   for (const DomainFace f : s.domain.open) {
     const int axis = int(f) / 2;
     if (s.domain.isPeriodic(axis))
@@ -883,9 +878,9 @@ std::shared_ptr<const Object<Scene>> buildSceneSchema() {
         .child("time", &Scene::time, timeSchema(), "Frames and time step control.")
         .list("colliders", &Scene::colliders, colliderSchema(), 0, kUnbounded, "Solid objects in the fluid.")
         .list("emitters", &Scene::emitters, emitterSchema(), 0, kUnbounded,
-              "Nozzles that add fluid while they are active (WCSPH only).")
+              "Nozzles that add fluid while they are active.")
         .list("kill", &Scene::kill, killBoxSchema(), 0, kUnbounded,
-              "Boxes that remove the particles entering them (WCSPH only).")
+              "Boxes that remove the particles entering them.")
         .child("limits", &Scene::limits, limitsSchema(), "Resource limits checked before a run starts.")
         .child("health", &Scene::health, healthSchema(), "Checks that stop a run that blows up.")
         .child("cache", &Scene::cache, cacheSchema(), "What the particle cache stores.")

@@ -70,16 +70,18 @@ double wallContactRest(const Scene& scene) {
 }
 
 // Where the samples' rest shares take the resting lattice from the max wall rather than the min one
-// (sim_dfsph_boundary_factor.comp, restLatticeFrame()), per axis: past the middle on a walled axis whose
-// extent is not a whole number of spacings, else never (1e30). Empty where every axis fits. (DFSPH has no
-// open faces: both faces of a non-periodic axis are walls.)
+// (sim_dfsph_boundary_factor.comp, restLatticeFrame()), per axis: past the middle on an axis walled at
+// both faces whose extent is not a whole number of spacings, else never (1e30). Empty where every axis
+// fits.
 std::optional<std::array<double, 3>> restMirrorFrom(const Scene& scene) {
   constexpr double kNever = 1e30;
   std::array<double, 3> from{kNever, kNever, kNever};
   bool any = false;
   for (int a = 0; a < 3; ++a) {
     const double lo = scene.domain.min[a], hi = scene.domain.max[a], n = (hi - lo) / scene.fluid.spacing;
-    if (scene.domain.isPeriodic(a) || std::fabs(n - std::round(n)) <= 1e-6) continue;
+    if (scene.domain.isPeriodic(a) || scene.domain.isOpen(a, 0) || scene.domain.isOpen(a, 1) ||
+        std::fabs(n - std::round(n)) <= 1e-6)
+      continue;
     from[size_t(a)] = 0.5 * (lo + hi);
     any = true;
   }

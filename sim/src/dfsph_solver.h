@@ -63,7 +63,8 @@ struct DfsphFrameStats {
 
 class DFSPHSolver : public PressureSolver {
  public:
-  /// Builds the programs (tolerances and iteration limits are compiled in) and buffers for `particles`.
+  /// Builds the programs (tolerances and iteration limits are compiled in) and buffers for `particles`, the
+  /// scene's largest count (maxParticleCount(): emitters add to it).
   /// @throws GLError if a program does not build, or if the neighbour lists hold more texels than the
   /// context's GL_MAX_TEXTURE_BUFFER_SIZE (the solver iterations read them through a buffer texture).
   /// With solver.dfsph.walls "constraints", `boundaryEntry` is the dispatch gate's entry over the

@@ -25,7 +25,7 @@ std::unique_ptr<PressureSolver> makePressureSolver(const Scene& scene, const Dis
     case Solver::WCSPH:
       return std::make_unique<WCSPHSolver>(scene, gate, defines, boundary.gateEntry(), boundary.count());
     case Solver::DFSPH:
-      return std::make_unique<DFSPHSolver>(scene, gate, defines, uint32_t(countInitialParticles(scene)),
+      return std::make_unique<DFSPHSolver>(scene, gate, defines, uint32_t(maxParticleCount(scene)),
                                            boundary.gateEntry(), boundary.count());
   }
   throw InputError("solver.method: no implementation of \"" +

@@ -289,6 +289,12 @@ CriterionResult judgeSpeed(const std::vector<FrameState>& st, const Scene& scene
 
 CriterionResult judge(Criterion c, const std::vector<FrameState>& states, const Scene& scene) {
   if (states.empty()) return CriterionResult{c, false, "no frames", "", 0};
+  // Fluid that enters or leaves brings or takes its energy and moves the surface: neither a closed
+  // system's energy bound nor a resting column's drift applies.
+  if ((c == Criterion::Rest || c == Criterion::Energy) && scene.changesParticleCount())
+    return CriterionResult{
+        c, true, "not judged: emitters, kill boxes or open faces change the fluid", "closed systems only",
+        0, false};
   switch (c) {
     case Criterion::Rest:
       return judgeRest(states, scene);

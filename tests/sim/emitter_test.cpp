@@ -1,9 +1,11 @@
-// Emitters and open boundaries (issue 27): an emitter's mass flow against rho v A, open faces and kill
-// boxes removing exactly the particles that reach them (brute force over the caches, frame to frame),
-// stable unique ids, determinism and resume with a varying count (frames with no particle included), and
+// Emitters and open boundaries (issue 27), under both solvers: an emitter's mass flow against rho v A,
+// open faces and kill boxes removing exactly the particles that reach them (brute force over the caches,
+// frame to frame), stable unique ids, determinism and resume with a varying count (frames with no
+// particle included), a tank filled by a nozzle coming to rest at the height its volume gives, and
 // scenes without them compiling none of their code.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -12,6 +14,7 @@
 #include <map>
 #include <numbers>
 #include <set>
+#include <vector>
 
 #include "sim_test_util.h"
 #include "simulator.h"
@@ -42,15 +45,17 @@ float speed(const std::array<float, 3>& v) {
   return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
 }
 
+constexpr const char* kSolvers[] = {"wcsph", "dfsph"};
+
 // A downward round nozzle into an empty tank: 4.4 spacings radius, where the lattice's 61 points cover
 // 1.0029 of the disc's area. Emission starts half a layer period after t = 0 so that no frame time falls
-// on a layer's time (the count per frame is then exact, not a rounding tie).
-Scene nozzleScene(const std::string& kernel) {
+// on a layer's time (the count per frame is then exact, not a rounding tie). `solver`: the scene's
+// "solver" object.
+Scene nozzleScene(const std::string& solver) {
   return test::sceneFromJson(R"({
     "domain": {"min": [0, 0, 0], "max": [0.3, 0.5, 0.3]},
     "fluid": {"spacing": 0.02, "blocks": []},
-    "solver": {"wcsph": {"kernel": ")" +
-                             kernel + R"("}},
+    "solver": )" + solver + R"(,
     "time": {"fps": 50, "start_frame": 1, "end_frame": 16},
     "emitters": [{"name": "nozzle", "center": [0.15, 0.4, 0.15], "radius": 0.088, "direction": [0, -1, 0],
                   "velocity": 1.0, "start": 0.01, "end": 1.0}]
@@ -61,8 +66,9 @@ Scene nozzleScene(const std::string& kernel) {
 
 TEST(Emitters, MassFlowIsRestDensityTimesSpeedTimesArea) {
   auto ctx = test::makeContext();
-  for (const std::string kernel : {"muller2003", "wendland_c2"}) {
-    const Scene scene = nozzleScene(kernel);
+  for (const std::string kernel : {"muller2003", "wendland_c2", "dfsph"}) {
+    const Scene scene = nozzleScene(kernel == "dfsph" ? R"({"method": "dfsph"})"
+                                                      : R"({"wcsph": {"kernel": ")" + kernel + R"("}})");
     const Emitter& e = scene.emitters[0];
     const size_t points = emitterLayerPoints(scene, e).size();
     ASSERT_EQ(points, 61u);
@@ -104,17 +110,19 @@ TEST(Emitters, MassFlowIsRestDensityTimesSpeedTimesArea) {
   }
 }
 
-TEST(OpenBoundaries, OpenFaceAndKillBoxRemoveExactlyTheParticlesThatReachThem) {
-  auto ctx = test::makeContext();
-  // A block thrown at the open x+ face, with a kill box on the floor in its path.
+namespace {
+
+// A block thrown at the open x+ face, with a kill box on the floor in its path.
+void expectOpenFaceAndKillBoxRemoveExactly(const std::string& method) {
   const Scene scene = test::sceneFromJson(R"({
     "domain": {"min": [0, 0, 0], "max": [0.4, 0.3, 0.16], "open": ["x+"]},
+    "solver": {"method": ")" + method + R"("},
     "fluid": {"spacing": 0.02, "blocks": [{"min": [0.02, 0.0, 0.0], "max": [0.16, 0.12, 0.16],
                                            "velocity": [1.5, 0, 0]}]},
     "kill": [{"min": [0.24, -0.1, -0.1], "max": [0.3, 0.03, 0.3]}],
     "time": {"fps": 50, "start_frame": 1, "end_frame": 14}
   })");
-  const std::string shot = test::simulateTestShot("emitter_open", scene);
+  const std::string shot = test::simulateTestShot("emitter_open_" + method, scene);
   const double dt = 1.0 / scene.time.fps, xmax = scene.domain.max[0];
   const KillBox& k = scene.kill[0];
   size_t removedAtFace = 0, removedInBox = 0;
@@ -151,20 +159,22 @@ TEST(OpenBoundaries, OpenFaceAndKillBoxRemoveExactlyTheParticlesThatReachThem) {
   }
   const size_t initial = countInitialParticles(scene);
   const size_t last = readParticleCache(particleCachePath(shot, scene.time.endFrame)).size();
-  std::printf("open face: %zu of %zu particles left through x+, %zu entered the kill box, %zu remain\n",
-              removedAtFace, initial, removedInBox, last);
+  std::printf(
+      "%s: %zu of %zu particles left through the open face x+, %zu entered the kill box, %zu remain\n",
+      method.c_str(), removedAtFace, initial, removedInBox, last);
   EXPECT_EQ(removedAtFace + removedInBox + last, initial);
   EXPECT_GT(removedAtFace, 0u);
   EXPECT_GT(removedInBox, 0u);
 }
 
-TEST(Emitters, DeterministicAndResumableWithVaryingCounts) {
-  auto ctx = test::makeContext();
-  // Empty at frames 1-2 (the emitter starts at 0.05 s), then a jet into an outflow through y-; a kill
-  // box takes part of the jet.
-  auto scene = [](int endFrame) {
+// Empty at frames 1-2 (the emitter starts at 0.05 s), then a jet into an outflow through y-; a kill box
+// takes part of the jet.
+void expectDeterministicAndResumable(const std::string& method) {
+  auto scene = [&](int endFrame) {
     return test::sceneFromJson(R"({
       "domain": {"min": [0, 0, 0], "max": [0.2, 0.3, 0.2], "open": ["y-"]},
+      "solver": {"method": ")" +
+                               method + R"("},
       "fluid": {"spacing": 0.02, "blocks": []},
       "time": {"fps": 40, "start_frame": 1, "end_frame": )" +
                                std::to_string(endFrame) + R"(},
@@ -174,11 +184,11 @@ TEST(Emitters, DeterministicAndResumableWithVaryingCounts) {
       "cache": {"attributes": ["density"]}
     })");
   };
-  const std::string a = test::simulateTestShot("emitter_det_a", scene(10));
-  const std::string b = test::simulateTestShot("emitter_det_b", scene(10));
-  test::simulateTestShot("emitter_det_c", scene(5));
-  const std::string c = test::simulateTestShot("emitter_det_c", scene(10), true);
-  std::printf("particles per frame:");
+  const std::string a = test::simulateTestShot("emitter_det_a_" + method, scene(10));
+  const std::string b = test::simulateTestShot("emitter_det_b_" + method, scene(10));
+  test::simulateTestShot("emitter_det_c_" + method, scene(5));
+  const std::string c = test::simulateTestShot("emitter_det_c_" + method, scene(10), true);
+  std::printf("%s, particles per frame:", method.c_str());
   for (int f = 1; f <= 10; ++f) {
     const std::string x = bytes(particleCachePath(a, f));
     ASSERT_FALSE(x.empty());
@@ -192,6 +202,24 @@ TEST(Emitters, DeterministicAndResumableWithVaryingCounts) {
     byId(p);
   }
   std::printf("\n");
+}
+
+}  // namespace
+
+TEST(OpenBoundaries, OpenFaceAndKillBoxRemoveExactlyTheParticlesThatReachThem) {
+  auto ctx = test::makeContext();
+  for (const std::string method : kSolvers) {
+    SCOPED_TRACE(method);
+    expectOpenFaceAndKillBoxRemoveExactly(method);
+  }
+}
+
+TEST(Emitters, DeterministicAndResumableWithVaryingCounts) {
+  auto ctx = test::makeContext();
+  for (const std::string method : kSolvers) {
+    SCOPED_TRACE(method);
+    expectDeterministicAndResumable(method);
+  }
 }
 
 TEST(Emitters, VolumeSourcesKeepTheirVolumeFilledAtRhoVA) {
@@ -240,27 +268,92 @@ TEST(Emitters, VolumeSourcesKeepTheirVolumeFilledAtRhoVA) {
   }
 }
 
-TEST(Emitters, ANozzleInsideFluidAddsNothing) {
+TEST(Emitters, ATankFilledByANozzleComesToRestAtTheHeightItsVolumeGives) {
   auto ctx = test::makeContext();
-  // The nozzle's disc lies on the resting block's lattice (cell centres at odd multiples of 0.01 m), so
-  // every emitted point falls between two of the block's particles, less than half a spacing from one:
-  // no point may be emitted, and nothing may be pressed into the fluid and blown apart.
+  // A nozzle fills a closed 0.2 x 0.4 x 0.2 m tank for 0.6 s; the pool then settles for 2.4 s. At rest the
+  // N particles fill N s^3 of the tank at rest density (the particle mass makes the lattice of spacing s
+  // sum to it), so the pool is H = N s^3 / A deep over the floor's area A and its particles' mean height
+  // is H / 2. (DFSPH keeps the wall samples' data after the particles' in its buffers: as the count grows
+  // they must stay in place, or the samples read particles' data and the pool sinks or floats.)
+  for (const std::string method : kSolvers) {
+    SCOPED_TRACE(method);
+    const Scene scene = test::sceneFromJson(R"({
+      "domain": {"min": [0, 0, 0], "max": [0.2, 0.4, 0.2]},
+      "fluid": {"spacing": 0.02, "blocks": []},
+      "solver": {"method": ")" + method + R"("},
+      "time": {"fps": 25, "start_frame": 1, "end_frame": 75},
+      "cache": {"attributes": ["density"]},
+      "emitters": [{"center": [0.1, 0.3, 0.1], "radius": 0.05, "direction": [0, -1, 0], "velocity": 1.0,
+                    "start": 0.01, "end": 0.6}]
+    })");
+    const std::string shot = test::simulateTestShot("emitter_fill_" + method, scene);
+    const ParticleFrame last = readParticleCache(particleCachePath(shot, scene.time.endFrame));
+    const double s = scene.fluid.spacing, area = 0.2 * 0.2, rho0 = scene.fluid.restDensity;
+    const double depth = double(last.size()) * s * s * s / area, g = 9.81;
+    double height = 0, kinetic = 0, closest = 1;
+    std::vector<double> bulk;  // densities a kernel radius from the walls and the surface
+    for (size_t i = 0; i < last.size(); ++i) {
+      const auto& x = last.position[i];
+      height += x[1];
+      kinetic += 0.5 * std::pow(speed(last.velocity[i]), 2);
+      closest = std::min({closest, double(x[0]), 0.2 - x[0], double(x[1]), double(x[2]), 0.2 - x[2]});
+      const double h = scene.kernelRadius();
+      if (x[0] > h && x[0] < 0.2 - h && x[2] > h && x[2] < 0.2 - h && x[1] > h && x[1] < depth - h)
+        bulk.push_back(last.density[i]);
+    }
+    height /= double(last.size());
+    kinetic /= double(last.size());
+    double mean = 0;
+    for (const double rho : bulk) mean += rho;
+    mean /= double(std::max<size_t>(bulk.size(), 1));
+    std::printf(
+        "%s: %zu particles, depth N s^3 / A %.4f m: mean height %.4f m against %.4f (%+.3f spacings); bulk "
+        "density %+.3f %% of rest over %zu particles; KE/m %.3e J/kg (%.3e g H); closest centre %.3f s from "
+        "a wall\n",
+        method.c_str(), last.size(), depth, height, depth / 2, (height - depth / 2) / s,
+        100 * (mean / rho0 - 1), bulk.size(), kinetic, kinetic / (g * depth), closest / s);
+    EXPECT_NEAR(height, depth / 2, 0.25 * s);  // the column's height within half a spacing
+    ASSERT_GT(bulk.size(), 50u);
+    EXPECT_NEAR(mean / rho0, 1.0, 0.005);  // the suite's bulk-density bound
+    EXPECT_LT(kinetic, 5e-5 * g * depth);  // the suite's rest bound, 5e-5 g H
+    EXPECT_GE(closest, 0.25 * s);          // no centre pressed into a wall
+  }
+}
+
+namespace {
+
+// The nozzle's disc lies on the resting block's lattice (cell centres at odd multiples of 0.01 m), so
+// every emitted point falls between two of the block's particles, less than half a spacing from one: no
+// point may be emitted, and nothing may be pressed into the fluid and blown apart.
+void expectANozzleInsideFluidAddsNothing(const std::string& method) {
   const Scene scene = test::sceneFromJson(R"({
     "domain": {"min": [0, 0, 0], "max": [0.2, 0.2, 0.2]},
+    "solver": {"method": ")" + method + R"("},
     "fluid": {"spacing": 0.02, "blocks": [{"min": [0, 0, 0], "max": [0.2, 0.16, 0.2]}]},
     "time": {"fps": 50, "start_frame": 1, "end_frame": 6},
     "emitters": [{"center": [0.09, 0.09, 0.09], "radius": 0.045, "direction": [0, -1, 0], "velocity": 0.5,
                   "start": 0.0, "end": 1.0}]
   })");
-  const std::string shot = test::simulateTestShot("emitter_blocked", scene);
+  const std::string shot = test::simulateTestShot("emitter_blocked_" + method, scene);
   const size_t block = countInitialParticles(scene);
   for (int f = 1; f <= 6; ++f) {
     const ParticleFrame frame = readParticleCache(particleCachePath(shot, f));
     double vmax = 0;
     for (const auto& v : frame.velocity) vmax = std::max(vmax, double(speed(v)));
-    std::printf("frame %d: %zu particles (block %zu), fastest %.3f m/s\n", f, frame.size(), block, vmax);
+    std::printf("%s, frame %d: %zu particles (block %zu), fastest %.3f m/s\n", method.c_str(), f,
+                frame.size(), block, vmax);
     EXPECT_EQ(frame.size(), block);
     EXPECT_LT(vmax, 0.5);  // a settling block, not an explosion (the nozzle's 0.5 m/s would not even enter)
+  }
+}
+
+}  // namespace
+
+TEST(Emitters, ANozzleInsideFluidAddsNothing) {
+  auto ctx = test::makeContext();
+  for (const std::string method : kSolvers) {
+    SCOPED_TRACE(method);
+    expectANozzleInsideFluidAddsNothing(method);
   }
 }
 

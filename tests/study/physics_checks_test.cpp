@@ -105,6 +105,25 @@ TEST(PhysicsChecks, WithoutGravityEnergyGainIsMeasuredAgainstTheStartingEnergy) 
   EXPECT_NE(gained.measured.find("+3.0"), std::string::npos) << gained.measured;
 }
 
+// Fluid that enters or leaves (an emitter, a kill box, an open face) is no closed system: rest and energy
+// are not judged there, walls and speed are.
+TEST(PhysicsChecks, RestAndEnergyAreNotJudgedWhereFluidEntersOrLeaves) {
+  Scene scene = tankScene();
+  scene.kill = {KillBox{{0.3, 0.3, 0.3}, {0.4, 0.4, 0.4}}};
+  ParticleFrame lifted = restingFrame(scene, 2);
+  for (auto& p : lifted.position) p[1] += 0.02f;  // a gain that fails the closed tank's energy bound
+  const auto st = states(scene, {restingFrame(scene, 1), lifted});
+  for (Criterion c : {Criterion::Rest, Criterion::Energy}) {
+    const CriterionResult r = judge(c, st, scene);
+    EXPECT_FALSE(r.judged) << toString(c);
+    EXPECT_TRUE(r.passed) << toString(c);
+  }
+  EXPECT_TRUE(judge(Criterion::Walls, st, scene).judged);
+  EXPECT_TRUE(judge(Criterion::Speed, st, scene).judged);
+  scene.kill.clear();
+  EXPECT_FALSE(judge(Criterion::Energy, st, scene).passed) << "the closed tank's gain";
+}
+
 TEST(PhysicsChecks, CriterionNames) {
   EXPECT_EQ(parseCriterion("rest"), Criterion::Rest);
   EXPECT_EQ(parseCriterion("walls"), Criterion::Walls);

@@ -65,6 +65,9 @@ struct CriterionResult {
   std::string measured;  ///< e.g. "drift 0.12 s, bulk density -0.21 %, KE/m 3.1e-06 J/kg"
   std::string bound;     ///< e.g. "< 0.5 s, within 0.5 %, < 1.5e-04 J/kg"
   int worstFrame = 0;    ///< where the measured figure is worst
+  /// false where the criterion does not apply to the scene (then `passed` is true and `measured` says why):
+  /// rest and energy in a scene whose emitters, kill boxes or open faces change its fluid.
+  bool judged = true;
 };
 
 /// Judges `states` (measureShot of a completed run) by `c`. Rest compares the first and last frames
