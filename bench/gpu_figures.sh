@@ -1,6 +1,7 @@
 #!/bin/sh
 # The GPU path's figures (docs/performance.md, docs/validation.md) on a GPU render node through EGL device:
-# the GL device, WCSPH throughput against particle count, the production stability suite (docs/validation.md)
+# the GL device, WCSPH throughput against particle count, the shipped dam break, showcase and nozzle under
+# each solver (bench/build_compare.sh, one round), the production stability suite (docs/validation.md)
 # one solver at a time, and the SPlisHSPlasH dam break against the peer on the node's cores (at the defaults
 # at four resolutions, and with the surge settings, docs/performance.md). Each step has
 # its own time limit (seconds, the step's first argument to `step`) so that one slow step leaves the others'
@@ -33,6 +34,9 @@ step() {
 step 30 "$build/cli/sphfx" info --gl egl-device --selftest || exit 1
 step 60 "$build/bench/sim_bench" --scene scenes/dam_break.json --particles 3e4 --particles 1e5 --particles 3e5 --particles 1e6 --seconds 0.02
 step 40 "$build/bench/sim_bench" --scene scenes/dam_break_splishsplash.json --particles 0 --seconds 1 --fps 25
+SCENES="scenes/dam_break.json scenes/showcase.json scenes/nozzle.json" OPTS_A="--set solver.method=wcsph" \
+  OPTS_B="--set solver.method=dfsph" step 90 sh bench/build_compare.sh "$build" "$build" /tmp/build_compare 1 \
+  -- --gl egl-device
 for solver in dfsph wcsph; do
   limit=120
   [ "$solver" = wcsph ] && limit=150
