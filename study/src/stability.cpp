@@ -153,9 +153,10 @@ std::string criteriaCell(const StabilityRun& r) {
   std::string t;
   for (size_t i = 0; i < r.verdicts.size(); ++i)
     t += fmt::format("{}{} {}", t.empty() ? "" : "; ", toString(r.verdicts[i].criterion),
-                     r.verdicts[i].passed ? "ok"
-                     : r.known[i]         ? "missed (known)"
-                                          : "MISSED");
+                     !r.verdicts[i].judged  ? "not judged"
+                     : r.verdicts[i].passed ? "ok"
+                     : r.known[i]           ? "missed (known)"
+                                            : "MISSED");
   return t;
 }
 
@@ -169,7 +170,8 @@ std::string verdictText(const StabilitySuite& suite, const StabilityReport& repo
     if (r.fixedDt == 0)
       for (size_t i = 0; i < r.verdicts.size(); ++i) {
         const auto& v = r.verdicts[i];
-        const std::string verdict = v.passed
+        const std::string verdict = !v.judged ? "not judged"
+                                    : v.passed
                                         ? (r.known[i] ? "met (listed as a known miss)" : "met")
                                         : fmt::format("{} (worst at frame {})",
                                                       r.known[i] ? "missed, known" : "MISSED", v.worstFrame);
@@ -336,7 +338,7 @@ StabilityReport runStabilitySuite(const StabilitySuite& suite, bool quick, const
     if (dt == 0 && run.outcome.status == RunStatus::Completed && !run.criteriaMet()) ++report.violations;
     for (size_t i = 0; dt == 0 && i < run.verdicts.size(); ++i) {
       if (run.known[i] && !run.verdicts[i].passed) ++report.knownMisses;
-      if (run.known[i] && run.verdicts[i].passed) ++report.nowMet;
+      if (run.known[i] && run.verdicts[i].passed && run.verdicts[i].judged) ++report.nowMet;
     }
     if (dt > 0 && !(run.outcome.status == RunStatus::Completed && run.criteriaMet()))
       sweepDone[{c->name, solver}] = true;

@@ -47,6 +47,14 @@ float speed(const std::array<float, 3>& v) {
 
 constexpr const char* kSolvers[] = {"wcsph", "dfsph"};
 
+// Runs `expect` under each solver, traced by the solver's name.
+void forEachSolver(void (*expect)(const std::string& method)) {
+  for (const std::string method : kSolvers) {
+    SCOPED_TRACE(method);
+    expect(method);
+  }
+}
+
 // A downward round nozzle into an empty tank: 4.4 spacings radius, where the lattice's 61 points cover
 // 1.0029 of the disc's area. Emission starts half a layer period after t = 0 so that no frame time falls
 // on a layer's time (the count per frame is then exact, not a rounding tie). `solver`: the scene's
@@ -210,18 +218,12 @@ void expectDeterministicAndResumable(const std::string& method) {
 
 TEST(OpenBoundaries, OpenFaceAndKillBoxRemoveExactlyTheParticlesThatReachThem) {
   auto ctx = test::makeContext();
-  for (const std::string method : kSolvers) {
-    SCOPED_TRACE(method);
-    expectOpenFaceAndKillBoxRemoveExactly(method);
-  }
+  forEachSolver(expectOpenFaceAndKillBoxRemoveExactly);
 }
 
 TEST(Emitters, DeterministicAndResumableWithVaryingCounts) {
   auto ctx = test::makeContext();
-  for (const std::string method : kSolvers) {
-    SCOPED_TRACE(method);
-    expectDeterministicAndResumable(method);
-  }
+  forEachSolver(expectDeterministicAndResumable);
 }
 
 TEST(Emitters, VolumeSourcesKeepTheirVolumeFilledAtRhoVA) {
@@ -353,10 +355,7 @@ void expectANozzleInsideFluidAddsNothing(const std::string& method) {
 
 TEST(Emitters, ANozzleInsideFluidAddsNothing) {
   auto ctx = test::makeContext();
-  for (const std::string method : kSolvers) {
-    SCOPED_TRACE(method);
-    expectANozzleInsideFluidAddsNothing(method);
-  }
+  forEachSolver(expectANozzleInsideFluidAddsNothing);
 }
 
 TEST(Emitters, SceneWithoutThemCompilesNoEmitterOrRemovalCode) {
