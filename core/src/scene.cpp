@@ -349,8 +349,10 @@ std::string onlyWithMethod(const std::string& name) {
 std::shared_ptr<const Object<SolverSettings>> solverSchema() {
   return makeSchema<SolverSettings>([](Object<SolverSettings>& o) {
     const auto& solvers = pressureSolverRegistry();
-    o.choice("method", &SolverSettings::method, Solver::WCSPH, methodChoices(solvers),
-             "Pressure solver. " + methodDescriptions(solvers) + ".")
+    o.choice("method", &SolverSettings::method, Solver::DFSPH, methodChoices(solvers),
+             "Pressure solver. " + methodDescriptions(solvers) +
+                 ". The default is the one whose front error against wall time is lower on the shipped "
+                 "scenes (docs/performance.md).")
         .number("kernel_support", &SolverSettings::kernelSupport, 2.0, "spacings", Range::closed(1.2, 4),
                 "Kernel support radius h as a multiple of the particle spacing.")
         .number("speed_of_sound", &SolverSettings::speedOfSound, 30, "m/s", Range{0, 1e5, true, false},

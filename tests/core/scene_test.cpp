@@ -29,7 +29,7 @@ std::string errorOf(const Json& raw) {
 
 TEST(Scene, DefaultsFillEverything) {
   const Scene s = parseScene(minimal(), "x.json");
-  EXPECT_EQ(s.solver.method, Solver::WCSPH);
+  EXPECT_EQ(s.solver.method, Solver::DFSPH);
   EXPECT_EQ(s.solver.dfsph.minDivergenceIterations, 1);  // SPlisHSPlasH's divergence solve
   EXPECT_EQ(s.time.mode, TimeStepMode::Cfl);
   EXPECT_DOUBLE_EQ(s.fluid.restDensity, 1000);
@@ -153,7 +153,13 @@ TEST(Scene, PackingCompressesTheInitialLattice) {
 }
 
 TEST(Scene, AParameterNothingReadsIsAnError) {
-  Json raw = minimal();  // WCSPH, CFL steps, artificial viscosity
+  Json raw = minimal();  // DFSPH, CFL steps, artificial viscosity
+  raw["solver"]["wcsph"]["eos"] = "linear";
+  EXPECT_EQ(
+      errorOf(raw),
+      "x.json: /solver/wcsph: not read with these settings (only when the method is \"wcsph\"); remove it");
+  raw = minimal();
+  raw["solver"]["method"] = "wcsph";
   raw["solver"]["dfsph"]["max_iterations"] = 300;
   EXPECT_EQ(
       errorOf(raw),
@@ -166,6 +172,7 @@ TEST(Scene, AParameterNothingReadsIsAnError) {
   EXPECT_EQ(errorOf(raw),
             "x.json: /fluid/viscosity: not read with these settings (laplacian model); remove it");
   raw = minimal();
+  raw["solver"]["method"] = "wcsph";
   raw["solver"]["wcsph"]["eos"] = "linear";
   raw["solver"]["wcsph"]["gamma"] = 7;
   EXPECT_EQ(errorOf(raw), "x.json: /solver/wcsph/gamma: not read with these settings (tait eos); remove it");
@@ -189,6 +196,7 @@ TEST(Scene, MovedKeysStillLoadAtTheirNewPlace) {
             std::string::npos);
 
   raw = minimal();
+  raw["solver"]["method"] = "wcsph";
   applyOverride(raw, "solver.eos=linear");  // an old --set path moves too
   applyOverride(raw, "solver.stiffness=5000");
   s = parseScene(raw, "x.json");
@@ -247,6 +255,7 @@ TEST(Scene, WallViscosityKeepsItsOwnSpeedWhenAlphaAndCChange) {
     for (double alpha : {0.01, 0.02, 0.04})
       for (double c : {12.5, 25.0, 50.0}) {
         Json raw = minimal();
+        raw["solver"]["method"] = "wcsph";
         raw["fluid"]["artificial_viscosity"] = alpha;
         raw["fluid"]["wall_viscosity_factor"] = 2;
         raw["fluid"]["wall_viscosity_speed"] = 0.5;
@@ -392,5 +401,6 @@ TEST(Scene, DfsphDepthStepIsTheGravityWaveCrossingOfTheDomain) {
   channel["gravity"] = Json::array({-10.0, 0.0, 0.0});
   EXPECT_TRUE(std::isinf(parseScene(channel, "x.json").dfsphDepthStep())) << "gravity along x only";
   Json wcsph = minimal();
+  wcsph["solver"]["method"] = "wcsph";
   EXPECT_TRUE(std::isinf(parseScene(wcsph, "x.json").dfsphDepthStep()));
 }

@@ -76,8 +76,9 @@ TEST(Emitters, MassFlowIsRestDensityTimesSpeedTimesArea) {
   auto ctx = test::makeContext();
   // WCSPH under each of its kernels, and DFSPH.
   for (const std::string variant : {"muller2003", "wendland_c2", "dfsph"}) {
-    const Scene scene = nozzleScene(variant == "dfsph" ? R"({"method": "dfsph"})"
-                                                       : R"({"wcsph": {"kernel": ")" + variant + R"("}})");
+    const Scene scene =
+        nozzleScene(variant == "dfsph" ? R"({"method": "dfsph"})"
+                                       : R"({"method": "wcsph", "wcsph": {"kernel": ")" + variant + R"("}})");
     const Emitter& e = scene.emitters[0];
     const size_t points = emitterLayerPoints(scene, e).size();
     ASSERT_EQ(points, 61u);
@@ -237,7 +238,7 @@ TEST(Emitters, VolumeSourcesKeepTheirVolumeFilledAtRhoVA) {
     const Scene scene = test::sceneFromJson(R"({
       "domain": {"min": [0, 0, 0], "max": [0.3, 0.5, 0.3]}, "gravity": [0, 0, 0],
       "fluid": {"spacing": 0.02, "blocks": []},
-      "solver": {"wcsph": {"kernel": "muller2003"}},
+      "solver": {"method": "wcsph", "wcsph": {"kernel": "muller2003"}},
       "time": {"fps": 25, "start_frame": 1, "end_frame": 13},
       "emitters": [{)" + source + R"(, "direction": [0, -1, 0], "velocity": 0.5, "start": 0.01, "end": 1.0}]
     })");

@@ -55,29 +55,34 @@ double lastQuarterMean(const std::vector<double>& v) {
 
 TEST(Physics, MomentumConservedWithoutGravityOrWalls) {
   auto ctx = test::makeContext();
-  // A compressed block (packing 0.85) expands under its own pressure, far from every wall: internal
-  // forces are pairwise antisymmetric, so total momentum must stay at its initial value.
-  const Scene scene =
-      test::sceneFromJson(R"({"domain": {"min": [0,0,0], "max": [1.2,1.2,1.2]}, "gravity": [0,0,0],
-      "fluid": {"spacing": 0.02, "packing": 0.95, "blocks": [{"min": [0.5,0.5,0.5], "max": [0.7,0.7,0.7],
-      "velocity": [0.3, -0.1, 0.2]}]}, "time": {"fps": 60, "start_frame": 1, "end_frame": 4}})");
-  sim::Simulator sim(scene);
-  const ParticleFrame f0 = sim.cacheFrame();
-  const auto p0 = test::momentum(f0);
-  double vmax = 0;
-  while (sim.frame() < scene.time.endFrame) sim.advance();
-  const ParticleFrame f1 = sim.cacheFrame();
-  const auto p1 = test::momentum(f1);
-  for (const auto& v : f1.velocity) vmax = std::max(vmax, double(std::hypot(v[0], v[1], v[2])));
-  EXPECT_GT(vmax, 0.5) << "the block did not expand: the test would not test anything";
-  for (int a = 0; a < 3; ++a) {
-    // Float precision: N particles, speeds ~vmax, a few hundred substeps of float rounding.
-    const double tolerance = 1e-4 * double(f1.size()) * vmax;
-    EXPECT_NEAR(p1[a], p0[a], tolerance) << "axis " << a << ", N " << f1.size();
-    std::printf("momentum axis %d: %.6g -> %.6g (|dP| / (N vmax) = %.2e)\n", a, p0[a], p1[a],
-                std::fabs(p1[a] - p0[a]) / (double(f1.size()) * vmax));
+  // A compressed block (packing 0.95) expands under its own pressure, far from every wall: internal
+  // forces are pairwise antisymmetric under either solver, so total momentum must stay at its initial value.
+  for (const std::string method : {"wcsph", "dfsph"}) {
+    SCOPED_TRACE(method);
+    const Scene scene =
+        test::sceneFromJson(R"({"domain": {"min": [0,0,0], "max": [1.2,1.2,1.2]}, "gravity": [0,0,0],
+        "solver": {"method": ")" +
+                            method + R"("},
+        "fluid": {"spacing": 0.02, "packing": 0.95, "blocks": [{"min": [0.5,0.5,0.5], "max": [0.7,0.7,0.7],
+        "velocity": [0.3, -0.1, 0.2]}]}, "time": {"fps": 60, "start_frame": 1, "end_frame": 4}})");
+    sim::Simulator sim(scene);
+    const ParticleFrame f0 = sim.cacheFrame();
+    const auto p0 = test::momentum(f0);
+    double vmax = 0;
+    while (sim.frame() < scene.time.endFrame) sim.advance();
+    const ParticleFrame f1 = sim.cacheFrame();
+    const auto p1 = test::momentum(f1);
+    for (const auto& v : f1.velocity) vmax = std::max(vmax, double(std::hypot(v[0], v[1], v[2])));
+    EXPECT_GT(vmax, 0.5) << "the block did not expand: the test would not test anything";
+    for (int a = 0; a < 3; ++a) {
+      // Float precision: N particles, speeds ~vmax, a few hundred substeps of float rounding.
+      const double tolerance = 1e-4 * double(f1.size()) * vmax;
+      EXPECT_NEAR(p1[a], p0[a], tolerance) << "axis " << a << ", N " << f1.size();
+      std::printf("%s, momentum axis %d: %.6g -> %.6g (|dP| / (N vmax) = %.2e)\n", method.c_str(), a, p0[a],
+                  p1[a], std::fabs(p1[a] - p0[a]) / (double(f1.size()) * vmax));
+    }
+    EXPECT_TRUE(insideDomain(scene, f1));
   }
-  EXPECT_TRUE(insideDomain(scene, f1));
 }
 
 // A strong artificial viscosity damps the start's sloshing so that the tank settles within the 1 s run;
@@ -85,8 +90,8 @@ TEST(Physics, MomentumConservedWithoutGravityOrWalls) {
 TEST(Physics, HydrostaticTankSettlesToRestDensityAndPressureProfile) {
   auto ctx = test::makeContext();
   const Scene scene = loadScene(std::string(SPHFX_SOURCE_DIR) + "/scenes/hydrostatic.json",
-                                {"fluid.spacing=0.02", "time.end_frame=25", "fluid.artificial_viscosity=0.3",
-                                 "fluid.wall_viscosity_speed=9"});
+                                {"solver.method=wcsph", "fluid.spacing=0.02", "time.end_frame=25",
+                                 "fluid.artificial_viscosity=0.3", "fluid.wall_viscosity_speed=9"});
   sim::Simulator sim(scene);
   while (sim.frame() < scene.time.endFrame) {
     sim.advance();
@@ -172,12 +177,12 @@ std::pair<double, double> largestEnergyGainAndClosestWallGap(const Scene& scene)
 
 TEST(Physics, WcsphWallsDoNotPumpEnergyIntoATankAtRest) {
   auto ctx = test::makeContext();
-  // At the defaults (WCSPH, Tait, c = 30 m/s, artificial viscosity 0.02): a closed tank at rest can only
+  // At WCSPH's defaults (Tait, c = 30 m/s, artificial viscosity 0.02): a closed tank at rest can only
   // lose energy. Walls whose pressure is mirrored from each particle gained 2 % of g H in 0.5 s here
   // and threw particles against the floor; the walls' own pressure (sim_boundary_pressure.comp) keeps
   // the pair forces conservative.
   const Scene scene = loadScene(std::string(SPHFX_SOURCE_DIR) + "/scenes/hydrostatic.json",
-                                {"fluid.spacing=0.02", "time.end_frame=25"});
+                                {"solver.method=wcsph", "fluid.spacing=0.02", "time.end_frame=25"});
   ASSERT_EQ(scene.solver.method, Solver::WCSPH);
   const double s = scene.fluid.spacing, gH = -scene.gravity[1] * scene.fluid.blocks.front().max[1];
   const auto [growth, gap] = largestEnergyGainAndClosestWallGap(scene);
