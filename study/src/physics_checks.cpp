@@ -176,13 +176,11 @@ double colliderReach(const Collider& c) {
   }
   return std::sqrt(r2);
 }
-}  // namespace
 
-double speedBound(const Scene& scene) {
-  const double g = std::fabs(scene.gravity[1]);
-  double initial = 0, collider = 0;
-  for (const auto& v : seedParticles(scene).velocity)
-    initial = std::max(initial, std::sqrt(double(v[0]) * v[0] + double(v[1]) * v[1] + double(v[2]) * v[2]));
+// The largest material speed (|v| + |omega| r) of any collider at its keyframe intervals' midpoints: 0
+// where every collider stays put.
+double largestColliderSpeed(const Scene& scene) {
+  double fastest = 0;
   for (const auto& c : scene.colliders)
     for (size_t k = 1; k < c.keyframes.size(); ++k) {
       const ColliderPose pose = colliderPose(c, 0.5 * (c.keyframes[k - 1].time + c.keyframes[k].time));
@@ -191,8 +189,18 @@ double speedBound(const Scene& scene) {
                                  pose.angularVelocity[2] * pose.angularVelocity[2]);
       const double v = std::sqrt(pose.velocity[0] * pose.velocity[0] + pose.velocity[1] * pose.velocity[1] +
                                  pose.velocity[2] * pose.velocity[2]);
-      collider = std::max(collider, v + (w > 0 ? w * colliderReach(c) : 0.0));
+      fastest = std::max(fastest, v + (w > 0 ? w * colliderReach(c) : 0.0));
     }
+  return fastest;
+}
+}  // namespace
+
+double speedBound(const Scene& scene) {
+  const double g = std::fabs(scene.gravity[1]);
+  double initial = 0;
+  for (const auto& v : seedParticles(scene).velocity)
+    initial = std::max(initial, std::sqrt(double(v[0]) * v[0] + double(v[1]) * v[1] + double(v[2]) * v[2]));
+  const double collider = largestColliderSpeed(scene);
   // Emitted fluid: its speed, plus the fall from the emitter's height (the same 2 sqrt(g H) allowance).
   double emitted = 0;
   for (const auto& e : scene.emitters)
@@ -295,6 +303,14 @@ CriterionResult judge(Criterion c, const std::vector<FrameState>& states, const 
     return CriterionResult{
         c, true, "not judged: emitters, kill boxes or open faces change the fluid", "closed systems only",
         0, false};
+  // A moving collider does work on the fluid: its energy may grow and its surface rise.
+  if ((c == Criterion::Rest || c == Criterion::Energy) && largestColliderSpeed(scene) > 0)
+    return CriterionResult{c,
+                           true,
+                           "not judged: a moving collider does work on the fluid",
+                           "closed systems without moving colliders only",
+                           0,
+                           false};
   switch (c) {
     case Criterion::Rest:
       return judgeRest(states, scene);

@@ -124,6 +124,30 @@ TEST(PhysicsChecks, RestAndEnergyAreNotJudgedWhereFluidEntersOrLeaves) {
   EXPECT_FALSE(judge(Criterion::Energy, st, scene).passed) << "the closed tank's gain";
 }
 
+TEST(PhysicsChecks, RestAndEnergyAreNotJudgedWhereACollidersWorkEntersTheFluid) {
+  Scene scene = tankScene();
+  ParticleFrame lifted = restingFrame(scene, 2);
+  for (auto& p : lifted.position) p[1] += 0.02f;  // a gain that fails the closed tank's energy bound
+  const auto st = states(scene, {restingFrame(scene, 1), lifted});
+  // A collider at rest takes no part in the energy balance; a keyframed one does work on the fluid.
+  Collider post;
+  post.shape = Shape::Box;
+  post.min = {0.04, 0.0, 0.04};
+  post.max = {0.06, 0.05, 0.06};
+  scene.colliders = {post};
+  EXPECT_TRUE(judge(Criterion::Energy, st, scene).judged) << "a collider at rest";
+  EXPECT_FALSE(judge(Criterion::Energy, st, scene).passed);
+  Keyframe start, end;
+  end.time = 1.0;
+  end.offset = {0.0, 0.1, 0.0};
+  scene.colliders[0].keyframes = {start, end};
+  for (Criterion c : {Criterion::Rest, Criterion::Energy}) {
+    const CriterionResult r = judge(c, st, scene);
+    EXPECT_FALSE(r.judged) << toString(c) << " with a moving collider";
+    EXPECT_TRUE(r.passed) << toString(c);
+  }
+}
+
 TEST(PhysicsChecks, CriterionNames) {
   EXPECT_EQ(parseCriterion("rest"), Criterion::Rest);
   EXPECT_EQ(parseCriterion("walls"), Criterion::Walls);

@@ -66,7 +66,8 @@ struct CriterionResult {
   std::string bound;     ///< e.g. "< 0.5 s, within 0.5 %, < 1.5e-04 J/kg"
   int worstFrame = 0;    ///< where the measured figure is worst
   /// false where the criterion does not apply to the scene (then `passed` is true and `measured` says why):
-  /// rest and energy in a scene whose emitters, kill boxes or open faces change its fluid.
+  /// rest and energy in a scene whose emitters, kill boxes or open faces change its fluid, or whose
+  /// colliders move (their work enters the fluid).
   bool judged = true;
 };
 
