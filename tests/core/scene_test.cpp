@@ -38,6 +38,12 @@ TEST(Scene, DefaultsFillEverything) {
   EXPECT_TRUE(s.colliders.empty());
 }
 
+// Issue 26: the default shot (README's first command) runs the solver the schema defaults to.
+TEST(Scene, TheDefaultShotRunsTheDefaultSolver) {
+  EXPECT_EQ(loadScene(kDir + "/scenes/showcase.json").solver.method,
+            parseScene(minimal(), "x.json").solver.method);
+}
+
 TEST(Scene, ShippedAndTestScenesRoundTrip) {
   for (const std::string file :
        {"/scenes/dam_break.json", "/scenes/hydrostatic.json", "/scenes/box_emerge.json",
