@@ -350,7 +350,7 @@ void DFSPHSolver::checkListFitsTextureView() const {
     throw GLError(
         fmt::format("the DFSPH neighbour lists need {} texels ({} particles and {} wall samples x {} "
                     "slots), more than this GL's GL_MAX_TEXTURE_BUFFER_SIZE ({}): use fewer particles, "
-                    "or fluid.packing 1 (fewer slots)",
+                    "fluid.packing 1 (fewer slots), or solver.method \"wcsph\" (no lists)",
                     texels, particles_, samples, listSlots_ + 1, limit));
 }
 
