@@ -297,20 +297,15 @@ CriterionResult judgeSpeed(const std::vector<FrameState>& st, const Scene& scene
 
 CriterionResult judge(Criterion c, const std::vector<FrameState>& states, const Scene& scene) {
   if (states.empty()) return CriterionResult{c, false, "no frames", "", 0};
-  // Fluid that enters or leaves brings or takes its energy and moves the surface: neither a closed
-  // system's energy bound nor a resting column's drift applies.
-  if ((c == Criterion::Rest || c == Criterion::Energy) && scene.changesParticleCount())
-    return CriterionResult{
-        c, true, "not judged: emitters, kill boxes or open faces change the fluid", "closed systems only",
-        0, false};
-  // A moving collider does work on the fluid: its energy may grow and its surface rise.
-  if ((c == Criterion::Rest || c == Criterion::Energy) && largestColliderSpeed(scene) > 0)
-    return CriterionResult{c,
-                           true,
-                           "not judged: a moving collider does work on the fluid",
-                           "closed systems without moving colliders only",
-                           0,
-                           false};
+  // Rest and energy hold for closed systems only: fluid that enters or leaves brings or takes its energy
+  // and moves the surface, and a moving collider's work enters the fluid.
+  if (c == Criterion::Rest || c == Criterion::Energy) {
+    const char* reason = scene.changesParticleCount() ? "emitters, kill boxes or open faces change the fluid"
+                         : largestColliderSpeed(scene) > 0 ? "a moving collider does work on the fluid"
+                                                           : nullptr;
+    if (reason)
+      return CriterionResult{c, true, fmt::format("not judged: {}", reason), "closed systems only", 0, false};
+  }
   switch (c) {
     case Criterion::Rest:
       return judgeRest(states, scene);
