@@ -49,20 +49,34 @@ double colliderDistance(const Collider& c, const ColliderPose& pose, const Colli
   return outside2 > 0 ? std::sqrt(outside2) : inside;
 }
 
-// Distance from p to the nearest wall face (periodic axes have none) and collider surface.
-double wallGap(const Scene& scene, const std::vector<ColliderPose>& poses,
-               const std::vector<ColliderField>& fields, const std::array<float, 3>& p) {
-  double gap = kInfinity;
+// The nearest wall face (periodic axes and open faces have none) or collider surface to a point.
+struct NearestWall {
+  double distance = kInfinity;  ///< m
+  int index = -1;               ///< 2 axis + side for a face, 6 + c for collider c; -1: none
+};
+
+NearestWall nearestWall(const Scene& scene, const std::vector<ColliderPose>& poses,
+                        const std::vector<ColliderField>& fields, const std::array<float, 3>& p) {
+  NearestWall w;
+  auto consider = [&](double d, int index) {
+    if (d < w.distance) w = {d, index};
+  };
   for (int a = 0; a < 3; ++a) {
     if (scene.domain.isPeriodic(a)) continue;
     // An open face is no wall: fluid leaving through it is not pressed into anything.
-    if (!scene.domain.isOpen(a, 0)) gap = std::min(gap, p[a] - scene.domain.min[a]);
-    if (!scene.domain.isOpen(a, 1)) gap = std::min(gap, scene.domain.max[a] - p[a]);
+    if (!scene.domain.isOpen(a, 0)) consider(p[a] - scene.domain.min[a], 2 * a);
+    if (!scene.domain.isOpen(a, 1)) consider(scene.domain.max[a] - p[a], 2 * a + 1);
   }
   for (size_t c = 0; c < scene.colliders.size(); ++c)
-    gap = std::min(
-        gap, colliderDistance(scene.colliders[c], poses[c], c < fields.size() ? &fields[c] : nullptr, p));
-  return gap;
+    consider(colliderDistance(scene.colliders[c], poses[c], c < fields.size() ? &fields[c] : nullptr, p),
+             6 + int(c));
+  return w;
+}
+
+// "the domain's x-max wall", "collider 0" (NearestWall::index).
+std::string wallName(int index) {
+  static const char* face[6] = {"x-min", "x-max", "y-min", "y-max", "z-min", "z-max"};
+  return index < 6 ? fmt::format("the domain's {} wall", face[index]) : fmt::format("collider {}", index - 6);
 }
 
 double surfaceHeightOf(const ParticleFrame& f, const Scene& scene) {
@@ -101,11 +115,18 @@ FrameState measureFrameState(const ParticleFrame& f, const Scene& scene,
     const double v2 = double(v[0]) * v[0] + double(v[1]) * v[1] + double(v[2]) * v[2];
     kinetic += 0.5 * v2;
     potential += g * (f.position[i][1] - floor);
-    st.maxSpeed = std::max(st.maxSpeed, std::sqrt(v2));
-    const double gap = wallGap(scene, poses, fields, f.position[i]);
+    const NearestWall wall = nearestWall(scene, poses, fields, f.position[i]);
+    const double gap = wall.distance;
+    if (std::sqrt(v2) > st.maxSpeed || i == 0) {
+      st.maxSpeed = std::sqrt(v2);
+      st.maxSpeedAt = f.position[i];
+      st.maxSpeedWallGap = gap;
+      st.maxSpeedWall = wall.index;
+    }
     if (gap < st.minWallGap) {
       st.minWallGap = gap;
       st.minWallGapAt = f.position[i];
+      st.minWallGapWall = wall.index;
     }
     if (haveDensity && gap >= h && f.position[i][1] < st.surfaceHeight - h) {
       bulk += f.density[i];
@@ -260,35 +281,37 @@ CriterionResult judgeEnergy(const std::vector<FrameState>& st, const Scene& scen
 
 CriterionResult judgeWalls(const std::vector<FrameState>& st, const Scene& scene) {
   CriterionResult r{Criterion::Walls};
-  double gap = kInfinity;
-  std::array<float, 3> at{};
+  const FrameState* worst = &st.front();
   for (const auto& f : st)
-    if (f.minWallGap < gap) {
-      gap = f.minWallGap;
-      at = f.minWallGapAt;
-      r.worstFrame = f.frame;
-    }
+    if (f.minWallGap < worst->minWallGap) worst = &f;
+  r.worstFrame = worst->frame;
   const double s = scene.fluid.spacing;
-  r.passed = gap >= kMinWallGapSpacings * s;
+  r.passed = worst->minWallGap >= kMinWallGapSpacings * s;
   r.measured = "no walls";
-  if (std::isfinite(gap))
-    r.measured = fmt::format("closest centre {:.3f} s from a wall, at ({:.4f}, {:.4f}, {:.4f}) m", gap / s,
-                             at[0], at[1], at[2]);
+  if (worst->minWallGapWall >= 0) {
+    const auto& at = worst->minWallGapAt;
+    r.measured = fmt::format("closest centre {:.3f} s from {}, at ({:.4f}, {:.4f}, {:.4f}) m",
+                             worst->minWallGap / s, wallName(worst->minWallGapWall), at[0], at[1], at[2]);
+  }
   r.bound = fmt::format(">= {} s (rest: 0.5 s)", kMinWallGapSpacings);
   return r;
 }
 
 CriterionResult judgeSpeed(const std::vector<FrameState>& st, const Scene& scene) {
   CriterionResult r{Criterion::Speed};
-  double fastest = 0;
+  const FrameState* worst = &st.front();
   for (const auto& f : st)
-    if (f.maxSpeed > fastest) {
-      fastest = f.maxSpeed;
-      r.worstFrame = f.frame;
-    }
-  const double bound = speedBound(scene);
-  r.passed = fastest <= bound;
-  r.measured = fmt::format("fastest {:.3f} m/s", fastest);
+    if (f.maxSpeed > worst->maxSpeed) worst = &f;
+  r.worstFrame = worst->frame;
+  const double bound = speedBound(scene), s = scene.fluid.spacing;
+  r.passed = worst->maxSpeed <= bound;
+  // Where: a miss names the place, so that a jet up a wall reads apart from a splash in the open.
+  const auto& at = worst->maxSpeedAt;
+  r.measured =
+      fmt::format("fastest {:.3f} m/s at ({:.4f}, {:.4f}, {:.4f}) m", worst->maxSpeed, at[0], at[1], at[2]);
+  if (worst->maxSpeedWall >= 0)
+    r.measured +=
+        fmt::format(", {:.2f} s from {}", worst->maxSpeedWallGap / s, wallName(worst->maxSpeedWall));
   r.bound = fmt::format("<= {:.3f} m/s", bound);
   return r;
 }

@@ -2,6 +2,7 @@
 // its lattice, the same tank with one particle pushed against the floor, thrown too fast, or lifted.
 #include "sphfx/study/physics_checks.h"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -67,11 +68,32 @@ TEST(PhysicsChecks, EachViolationIsCaught) {
 
   ParticleFrame pressed = restingFrame(scene, 2);
   pressed.position[0][1] = 0.0005f;  // 0.05 s above the floor: only the last-resort clamp holds it
-  EXPECT_FALSE(judge(Criterion::Walls, states(scene, {rest, pressed}), scene).passed);
+  const CriterionResult through = judge(Criterion::Walls, states(scene, {rest, pressed}), scene);
+  EXPECT_FALSE(through.passed);
+  EXPECT_EQ(through.worstFrame, 2);
+  EXPECT_NE(through.measured.find("0.050 s from the domain's y-min wall"), std::string::npos)
+      << through.measured;
 
   ParticleFrame fast = restingFrame(scene, 2);
   fast.velocity[500] = {0, 0, float(1.01 * speedBound(scene))};
-  EXPECT_FALSE(judge(Criterion::Speed, states(scene, {rest, fast}), scene).passed);
+  const CriterionResult thrown = judge(Criterion::Speed, states(scene, {rest, fast}), scene);
+  EXPECT_FALSE(thrown.passed);
+  // The miss names its frame and place: the thrown particle's centre and the nearest wall (the tank's
+  // faces, the lid at y = 0.2 among them), its distance in spacings.
+  const auto& p = fast.position[500];
+  const char* faces[6] = {"x-min", "x-max", "y-min", "y-max", "z-min", "z-max"};
+  double gap = 1e30;
+  int nearest = 0;
+  for (int k = 0; k < 6; ++k) {
+    const double d = k % 2 ? (k == 3 ? 0.2 : 0.1) - p[k / 2] : p[k / 2];
+    if (d < gap) gap = d, nearest = k;
+  }
+  EXPECT_EQ(thrown.worstFrame, 2);
+  EXPECT_NE(
+      thrown.measured.find(fmt::format("at ({:.4f}, {:.4f}, {:.4f}) m, {:.2f} s from the domain's {} wall",
+                                       p[0], p[1], p[2], gap / 0.01, faces[nearest])),
+      std::string::npos)
+      << thrown.measured;
   ParticleFrame lifted = restingFrame(scene, 2);
   for (auto& p : lifted.position) p[1] += 0.002f;  // E/m grows by g * 0.002 = 2 % of g H
   EXPECT_FALSE(judge(Criterion::Energy, states(scene, {rest, lifted}), scene).passed);

@@ -19,9 +19,15 @@ struct FrameState {
   int frame = 0;
   double time = 0;
   size_t particles = 0;
-  double kineticPerMass = 0;  ///< mean |v|^2 / 2 (J/kg)
-  double energyPerMass = 0;   ///< mean |v|^2 / 2 + g (y - floor) (J/kg)
-  double maxSpeed = 0;        ///< m/s
+  double kineticPerMass = 0;          ///< mean |v|^2 / 2 (J/kg)
+  double energyPerMass = 0;           ///< mean |v|^2 / 2 + g (y - floor) (J/kg)
+  double maxSpeed = 0;                ///< m/s
+  std::array<float, 3> maxSpeedAt{};  ///< the centre of the fastest particle (m)
+  /// That particle's distance from the nearest wall face or collider surface (m), and which: 2 axis +
+  /// side for a face of the domain, 6 + c for collider c, -1 without walls (gap: infinity). A jet up a
+  /// wall reads apart from a splash in the open.
+  double maxSpeedWallGap = 0;
+  int maxSpeedWall = -1;
   /// Mean top (y + s/2) of the highest A / s^2 particles, A the domain's x-z footprint: the free
   /// surface of a tank that covers its floor (m).
   double surfaceHeight = 0;
@@ -32,6 +38,7 @@ struct FrameState {
   /// the initial lattice. Infinity without walls.
   double minWallGap = 0;
   std::array<float, 3> minWallGapAt{};  ///< the centre of that particle (m)
+  int minWallGapWall = -1;              ///< its wall, numbered as maxSpeedWall's
 };
 
 /// `fields` holds the mesh and vdb colliders' distance fields by collider index (measureShot builds
