@@ -156,8 +156,7 @@ void addToActive(LevelSetFilterT& filter, float delta) {
 /// Moves the surface of a band of distances by `offset` (world units; positive erodes), at most a
 /// voxel: adds it, then refills the band's side the surface moved towards with one face-neighbour layer,
 /// renormalizing only that layer, and trims the other side. The rest of the band still holds distances.
-/// (OpenVDB's LevelSetFilter::offset takes half-voxel steps and renormalizes the whole band after each:
-/// 2.2 of the 1M-particle frame's 10.2 s, docs/performance.md.)
+/// (OpenVDB's LevelSetFilter::offset takes half-voxel steps and renormalizes the whole band after each.)
 void offsetDistances(LevelSetFilterT& filter, double offset) {
   addToActive(filter, float(offset));
   const openvdb::MaskTree before(filter.grid().tree(), false, openvdb::TopologyCopy());
