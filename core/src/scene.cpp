@@ -153,22 +153,20 @@ std::shared_ptr<const Object<Fluid>> fluidSchema() {
             "(docs/simulation.md, Time step).")
         .onlyWhen([](const Fluid& f) { return f.viscosityModel == ViscosityModel::Artificial; },
                   "artificial model")
-        .number("wall_viscosity_factor", &Fluid::wallViscosityFactor, 1.0, "", Range::closed(0, 10),
-                "Multiplies the viscosity term between the fluid and the walls and colliders (DualSPHysics' "
-                "ViscoBoundFactor): 1 treats a wall sample as fluid at the wall's velocity (no slip), 0 "
-                "makes the walls free-slip (SPlisHSPlasH's default boundary viscosity) and compiles no wall "
-                "viscosity. Free slip lets the dam-break front lead Martin & Moyce's further, and more "
-                "splashes pass the stability suite's wall and speed bounds (docs/validation.md, "
-                "Sensitivity).")
+        .number(
+            "wall_viscosity_factor", &Fluid::wallViscosityFactor, 1.0, "", Range::closed(0, 10),
+            "Multiplies the viscosity term between the fluid and the walls and colliders (DualSPHysics' "
+            "ViscoBoundFactor): 1 treats a wall sample as fluid at the wall's velocity (no slip), 0 "
+            "makes the walls free-slip (SPlisHSPlasH's default boundary viscosity) and compiles no wall "
+            "viscosity; free slip leads Martin & Moyce's front further (docs/validation.md, Sensitivity).")
         .onlyWhen([](const Fluid& f) { return f.viscosityModel != ViscosityModel::None; },
                   "laplacian or artificial model")
         .number("wall_viscosity_speed", &Fluid::wallViscositySpeed, 0.6, "m/s", Range::closed(0, 1000),
                 "The artificial model's alpha c at the walls and colliders: their Monaghan term uses this "
                 "speed times wall_viscosity_factor where the fluid's uses artificial_viscosity times the "
-                "speed of sound. The walls' drag sets how fast a surge runs along the floor; apart from "
-                "alpha and c, which stabilise the bulk, it stays put when those are tuned: halving or "
-                "doubling either moves the dam-break front by at most 1.92 % (docs/validation.md, "
-                "Sensitivity). The default is their defaults' product, 0.02 x 30 m/s.")
+                "speed of sound, so that the walls' drag, which sets how fast a surge runs along the floor, "
+                "stays put when alpha or c are tuned (docs/validation.md, Sensitivity). The default is "
+                "their defaults' product, 0.02 x 30 m/s.")
         .onlyWhen([](const Fluid& f) { return f.viscosityModel == ViscosityModel::Artificial; },
                   "artificial model")
         .choice(
@@ -176,10 +174,10 @@ std::shared_ptr<const Object<Fluid>> fluidSchema() {
             {{"viscous", WallDrag::Viscous}, {"friction", WallDrag::Friction}},
             "What the walls' and colliders' Monaghan term acts on: viscous, the whole velocity relative "
             "to the wall (no slip; its drag reaches into the fluid by the artificial viscosity, alpha h c "
-            "/ 8, so a surge thinned to a few spacings lags: docs/validation.md, Dam-break front over a "
-            "long tank), or friction, the approach alone (it pushes along the walls' normal and never "
-            "pulls), with a skin friction wall_friction on the sliding. Friction holds a long run-out's "
-            "front but leads the first T = 3 of Martin & Moyce's and lets impacts' jets run faster.")
+            "/ 8, so a surge thinned to a few spacings lags), or friction, the approach alone (it pushes "
+            "along the walls' normal and never pulls), with a skin friction wall_friction on the "
+            "sliding, which holds a long run-out's front (docs/validation.md, Dam-break front over a "
+            "long tank).")
         .onlyWhen([](const Fluid& f) { return f.viscosityModel == ViscosityModel::Artificial; },
                   "artificial model")
         .number("wall_friction", &Fluid::wallFriction, 0.005, "", Range::closed(0, 1),
@@ -256,12 +254,11 @@ std::shared_ptr<const Object<DfsphSettings>> dfsphSchema() {
                  "Minimum iterations of the divergence solve per step (after its warm start).")
         .number("jacobi_omega", &DfsphSettings::jacobiOmega, 0.5, "", Range{0, 1, true, false},
                 "Relaxation of the projected Jacobi updates (IISPH's 0.5) at kernel_support 2 with the "
-                "spiky gradient. Larger values converge faster where they converge at all; the dam break "
-                "from rest with jacobi_momentum 0 stops at 0.7 and holds at 0.65 under the spiky and the "
-                "wendland_c2 density. The solves scale it by the lattice's Jacobi spectral bound, 2.81 "
-                "there over the bound of the scene's support and kernel (spiky 6.72 at support 3: 0.5 "
-                "becomes 0.21; wendland_c2 2.61 at 2: 0.54), so that every support and kernel keeps the "
-                "same margin.")
+                "spiky gradient; larger values converge faster where they converge at all (the dam break "
+                "from rest with jacobi_momentum 0 stops at 0.7). The solves scale it by the lattice's "
+                "Jacobi spectral bound, 2.81 there over the bound of the scene's support and kernel (spiky "
+                "6.72 at support 3: 0.5 becomes 0.21; wendland_c2 2.61 at 2: 0.54), so that every support "
+                "and kernel keeps the same margin.")
         .number("jacobi_momentum", &DfsphSettings::jacobiMomentum, 0.5, "", Range{0, 1, false, true},
                 "Share of a particle's previous stiffness increment added to the next (heavy-ball Jacobi, "
                 "Polyak 1964); 0 is plain relaxed Jacobi, which needs about 1.5 times the iterations (the "
@@ -326,11 +323,9 @@ std::shared_ptr<const Object<DfsphSettings>> dfsphSchema() {
                 "CFL mode: caps the step at this factor times spacing / sqrt(|g| H), H the domain's extent "
                 "along gravity over its walled axes (sqrt(g H): the speed of gravity waves in the deepest "
                 "column the domain holds; gravity along periodic axes alone has no cap); 0 leaves the cap "
-                "out. A resting column of depth H grows once the step passes about "
-                "spacing / sqrt(g H), at any spacing. With cold-started solves in the cap's steps "
-                "(density_warm_steps \"flow_limited\"), 0.4 (2.0 and 1.0 ms in its 0.4 m domain) settles the "
-                "0.3 m tank at spacing 0.01 and 0.005 (docs/validation.md); a solve warm-started in every "
-                "substep is noisier well below the rule (share 0.5 needs 0.8). Fixed steps leave it out.")
+                "out. A resting column of depth H grows once the step passes about spacing / sqrt(g H), at "
+                "any spacing; 0.4 settles the 0.3 m tank at spacing 0.01 and 0.005 (docs/validation.md, "
+                "Known limits). Fixed steps leave it out.")
         .check([](const DfsphSettings& d, const Json&, const std::string& path) {
           const int least = std::max(d.minIterations, d.minDivergenceIterations);
           if (least > d.maxIterations)
