@@ -35,7 +35,7 @@ void printStates(const std::vector<study::FrameState>& states, double spacing, s
     std::printf("%6d %8.4f %9zu %11.3e %11.5f %9.4f %10.5f %9s   gap %.3f s\n", s.frame, s.time, s.particles,
                 s.kineticPerMass, s.energyPerMass, s.maxSpeed, s.surfaceHeight,
                 std::isfinite(s.bulkDensityRatio) ? fmt::format("{:.4f}", s.bulkDensityRatio).c_str() : "-",
-                s.minWallGap / spacing);
+                s.closest.wallGap / spacing);
   }
 }
 

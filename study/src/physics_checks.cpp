@@ -49,17 +49,12 @@ double colliderDistance(const Collider& c, const ColliderPose& pose, const Colli
   return outside2 > 0 ? std::sqrt(outside2) : inside;
 }
 
-// The nearest wall face (periodic axes and open faces have none) or collider surface to a point.
-struct NearestWall {
-  double distance = kInfinity;  ///< m
-  int index = -1;               ///< 2 axis + side for a face, 6 + c for collider c; -1: none
-};
-
-NearestWall nearestWall(const Scene& scene, const std::vector<ColliderPose>& poses,
-                        const std::vector<ColliderField>& fields, const std::array<float, 3>& p) {
-  NearestWall w;
-  auto consider = [&](double d, int index) {
-    if (d < w.distance) w = {d, index};
+// The place of a point: the nearest wall face (periodic axes and open faces have none) or collider surface.
+ParticlePlace placeOf(const Scene& scene, const std::vector<ColliderPose>& poses,
+                      const std::vector<ColliderField>& fields, const std::array<float, 3>& p) {
+  ParticlePlace place{p, kInfinity, -1};
+  auto consider = [&](double d, int wall) {
+    if (d < place.wallGap) place.wallGap = d, place.wall = wall;
   };
   for (int a = 0; a < 3; ++a) {
     if (scene.domain.isPeriodic(a)) continue;
@@ -70,13 +65,7 @@ NearestWall nearestWall(const Scene& scene, const std::vector<ColliderPose>& pos
   for (size_t c = 0; c < scene.colliders.size(); ++c)
     consider(colliderDistance(scene.colliders[c], poses[c], c < fields.size() ? &fields[c] : nullptr, p),
              6 + int(c));
-  return w;
-}
-
-// "the domain's x-max wall", "collider 0" (NearestWall::index).
-std::string wallName(int index) {
-  static const char* face[6] = {"x-min", "x-max", "y-min", "y-max", "z-min", "z-max"};
-  return index < 6 ? fmt::format("the domain's {} wall", face[index]) : fmt::format("collider {}", index - 6);
+  return place;
 }
 
 double surfaceHeightOf(const ParticleFrame& f, const Scene& scene) {
@@ -94,13 +83,23 @@ double surfaceHeightOf(const ParticleFrame& f, const Scene& scene) {
 
 }  // namespace
 
+std::string describePlace(const ParticlePlace& place, double spacing) {
+  static const char* face[6] = {"x-min", "x-max", "y-min", "y-max", "z-min", "z-max"};
+  const auto& p = place.centre;
+  std::string text = fmt::format("at ({:.4f}, {:.4f}, {:.4f}) m", p[0], p[1], p[2]);
+  if (place.wall >= 0)
+    text += fmt::format(", {:.3f} s from {}", place.wallGap / spacing,
+                        place.wall < 6 ? fmt::format("the domain's {} wall", face[place.wall])
+                                       : fmt::format("collider {}", place.wall - 6));
+  return text;
+}
+
 FrameState measureFrameState(const ParticleFrame& f, const Scene& scene,
                              const std::vector<ColliderField>& fields) {
   FrameState st;
   st.frame = f.frame;
   st.time = f.time;
   st.particles = f.size();
-  st.minWallGap = kInfinity;
   st.bulkDensityRatio = std::numeric_limits<double>::quiet_NaN();
   if (f.size() == 0) return st;
   const double g = -scene.gravity[1], floor = scene.domain.min[1], h = scene.kernelRadius();
@@ -115,19 +114,13 @@ FrameState measureFrameState(const ParticleFrame& f, const Scene& scene,
     const double v2 = double(v[0]) * v[0] + double(v[1]) * v[1] + double(v[2]) * v[2];
     kinetic += 0.5 * v2;
     potential += g * (f.position[i][1] - floor);
-    const NearestWall wall = nearestWall(scene, poses, fields, f.position[i]);
-    const double gap = wall.distance;
+    const ParticlePlace place = placeOf(scene, poses, fields, f.position[i]);
+    const double gap = place.wallGap;
     if (std::sqrt(v2) > st.maxSpeed || i == 0) {
       st.maxSpeed = std::sqrt(v2);
-      st.maxSpeedAt = f.position[i];
-      st.maxSpeedWallGap = gap;
-      st.maxSpeedWall = wall.index;
+      st.fastest = place;
     }
-    if (gap < st.minWallGap) {
-      st.minWallGap = gap;
-      st.minWallGapAt = f.position[i];
-      st.minWallGapWall = wall.index;
-    }
+    if (gap < st.closest.wallGap) st.closest = place;
     if (haveDensity && gap >= h && f.position[i][1] < st.surfaceHeight - h) {
       bulk += f.density[i];
       ++bulkCount;
@@ -283,16 +276,11 @@ CriterionResult judgeWalls(const std::vector<FrameState>& st, const Scene& scene
   CriterionResult r{Criterion::Walls};
   const FrameState* worst = &st.front();
   for (const auto& f : st)
-    if (f.minWallGap < worst->minWallGap) worst = &f;
+    if (f.closest.wallGap < worst->closest.wallGap) worst = &f;
   r.worstFrame = worst->frame;
   const double s = scene.fluid.spacing;
-  r.passed = worst->minWallGap >= kMinWallGapSpacings * s;
-  r.measured = "no walls";
-  if (worst->minWallGapWall >= 0) {
-    const auto& at = worst->minWallGapAt;
-    r.measured = fmt::format("closest centre {:.3f} s from {}, at ({:.4f}, {:.4f}, {:.4f}) m",
-                             worst->minWallGap / s, wallName(worst->minWallGapWall), at[0], at[1], at[2]);
-  }
+  r.passed = worst->closest.wallGap >= kMinWallGapSpacings * s;
+  r.measured = worst->closest.wall >= 0 ? "closest centre " + describePlace(worst->closest, s) : "no walls";
   r.bound = fmt::format(">= {} s (rest: 0.5 s)", kMinWallGapSpacings);
   return r;
 }
@@ -303,15 +291,10 @@ CriterionResult judgeSpeed(const std::vector<FrameState>& st, const Scene& scene
   for (const auto& f : st)
     if (f.maxSpeed > worst->maxSpeed) worst = &f;
   r.worstFrame = worst->frame;
-  const double bound = speedBound(scene), s = scene.fluid.spacing;
+  const double bound = speedBound(scene);
   r.passed = worst->maxSpeed <= bound;
-  // Where: a miss names the place, so that a jet up a wall reads apart from a splash in the open.
-  const auto& at = worst->maxSpeedAt;
-  r.measured =
-      fmt::format("fastest {:.3f} m/s at ({:.4f}, {:.4f}, {:.4f}) m", worst->maxSpeed, at[0], at[1], at[2]);
-  if (worst->maxSpeedWall >= 0)
-    r.measured +=
-        fmt::format(", {:.2f} s from {}", worst->maxSpeedWallGap / s, wallName(worst->maxSpeedWall));
+  r.measured = fmt::format("fastest {:.3f} m/s {}", worst->maxSpeed,
+                           describePlace(worst->fastest, scene.fluid.spacing));
   r.bound = fmt::format("<= {:.3f} m/s", bound);
   return r;
 }

@@ -48,7 +48,7 @@ TEST(PhysicsChecks, ATankAtRestOnItsLatticeMeetsEveryCriterion) {
   const Scene scene = tankScene();
   const auto st = states(scene, {restingFrame(scene, 1), restingFrame(scene, 2), restingFrame(scene, 3)});
   EXPECT_NEAR(st[0].surfaceHeight, 0.1, 1e-6);
-  EXPECT_NEAR(st[0].minWallGap, 0.005, 1e-6);
+  EXPECT_NEAR(st[0].closest.wallGap, 0.005, 1e-6);
   EXPECT_NEAR(st[0].bulkDensityRatio, 1.0, 1e-9);
   // Mean height 0.05 m: E/m = g * 0.05.
   EXPECT_NEAR(st[0].energyPerMass, 9.81 * 0.05, 1e-5);
@@ -90,7 +90,7 @@ TEST(PhysicsChecks, EachViolationIsCaught) {
   }
   EXPECT_EQ(thrown.worstFrame, 2);
   EXPECT_NE(
-      thrown.measured.find(fmt::format("at ({:.4f}, {:.4f}, {:.4f}) m, {:.2f} s from the domain's {} wall",
+      thrown.measured.find(fmt::format("at ({:.4f}, {:.4f}, {:.4f}) m, {:.3f} s from the domain's {} wall",
                                        p[0], p[1], p[2], gap / 0.01, faces[nearest])),
       std::string::npos)
       << thrown.measured;

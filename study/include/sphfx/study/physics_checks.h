@@ -5,6 +5,7 @@
 /// faster than the flow can make it. Everything is computed from the particle caches alone.
 
 #include <array>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -14,31 +15,37 @@
 
 namespace sphfx::study {
 
+/// Where one particle is: its centre and the nearest wall face (not a periodic or open one) or collider
+/// surface to it.
+struct ParticlePlace {
+  std::array<float, 3> centre{};                             ///< m
+  double wallGap = std::numeric_limits<double>::infinity();  ///< to that wall or surface (m); none: infinity
+  int wall = -1;  ///< 2 axis + side for a face of the domain, 6 + c for collider c; -1: none
+};
+
+/// "at (x, y, z) m, G s from the domain's x-max wall" (G in spacings; "collider c" for a collider;
+/// the position alone without walls).
+std::string describePlace(const ParticlePlace& place, double spacing);
+
 /// What one cached frame says about the physics.
 struct FrameState {
   int frame = 0;
   double time = 0;
   size_t particles = 0;
-  double kineticPerMass = 0;          ///< mean |v|^2 / 2 (J/kg)
-  double energyPerMass = 0;           ///< mean |v|^2 / 2 + g (y - floor) (J/kg)
-  double maxSpeed = 0;                ///< m/s
-  std::array<float, 3> maxSpeedAt{};  ///< the centre of the fastest particle (m)
-  /// That particle's distance from the nearest wall face or collider surface (m), and which: 2 axis +
-  /// side for a face of the domain, 6 + c for collider c, -1 without walls (gap: infinity). A jet up a
-  /// wall reads apart from a splash in the open.
-  double maxSpeedWallGap = 0;
-  int maxSpeedWall = -1;
+  double kineticPerMass = 0;  ///< mean |v|^2 / 2 (J/kg)
+  double energyPerMass = 0;   ///< mean |v|^2 / 2 + g (y - floor) (J/kg)
+  double maxSpeed = 0;        ///< m/s
+  /// The fastest particle's place: a jet up a wall reads apart from a splash in the open.
+  ParticlePlace fastest;
   /// Mean top (y + s/2) of the highest A / s^2 particles, A the domain's x-z footprint: the free
   /// surface of a tank that covers its floor (m).
   double surfaceHeight = 0;
   /// Mean density / rest density of the bulk: particles at least one kernel radius from every wall and
   /// collider and below surfaceHeight - h. NaN when the cache has no density or no particle qualifies.
   double bulkDensityRatio = 0;
-  /// Smallest distance from a particle centre to a wall face or collider surface (m); s/2 at rest on
-  /// the initial lattice. Infinity without walls.
-  double minWallGap = 0;
-  std::array<float, 3> minWallGapAt{};  ///< the centre of that particle (m)
-  int minWallGapWall = -1;              ///< its wall, numbered as maxSpeedWall's
+  /// The particle whose centre is closest to a wall face or collider surface; its wallGap is s/2 at rest
+  /// on the initial lattice.
+  ParticlePlace closest;
 };
 
 /// `fields` holds the mesh and vdb colliders' distance fields by collider index (measureShot builds
