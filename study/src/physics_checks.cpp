@@ -68,6 +68,19 @@ ParticlePlace placeOf(const Scene& scene, const std::vector<ColliderPose>& poses
   return place;
 }
 
+// "at (x, y, z) m, G s from the domain's x-max wall" (G in spacings; "collider c" for a collider; the
+// position alone without walls).
+std::string describePlace(const ParticlePlace& place, double spacing) {
+  static const char* face[6] = {"x-min", "x-max", "y-min", "y-max", "z-min", "z-max"};
+  const auto& p = place.centre;
+  std::string text = fmt::format("at ({:.4f}, {:.4f}, {:.4f}) m", p[0], p[1], p[2]);
+  if (place.wall >= 0)
+    text += fmt::format(", {:.3f} s from {}", place.wallGap / spacing,
+                        place.wall < 6 ? fmt::format("the domain's {} wall", face[place.wall])
+                                       : fmt::format("collider {}", place.wall - 6));
+  return text;
+}
+
 double surfaceHeightOf(const ParticleFrame& f, const Scene& scene) {
   const double s = scene.fluid.spacing;
   const double area =
@@ -82,17 +95,6 @@ double surfaceHeightOf(const ParticleFrame& f, const Scene& scene) {
 }
 
 }  // namespace
-
-std::string describePlace(const ParticlePlace& place, double spacing) {
-  static const char* face[6] = {"x-min", "x-max", "y-min", "y-max", "z-min", "z-max"};
-  const auto& p = place.centre;
-  std::string text = fmt::format("at ({:.4f}, {:.4f}, {:.4f}) m", p[0], p[1], p[2]);
-  if (place.wall >= 0)
-    text += fmt::format(", {:.3f} s from {}", place.wallGap / spacing,
-                        place.wall < 6 ? fmt::format("the domain's {} wall", face[place.wall])
-                                       : fmt::format("collider {}", place.wall - 6));
-  return text;
-}
 
 FrameState measureFrameState(const ParticleFrame& f, const Scene& scene,
                              const std::vector<ColliderField>& fields) {

@@ -23,10 +23,6 @@ struct ParticlePlace {
   int wall = -1;  ///< 2 axis + side for a face of the domain, 6 + c for collider c; -1: none
 };
 
-/// "at (x, y, z) m, G s from the domain's x-max wall" (G in spacings; "collider c" for a collider;
-/// the position alone without walls).
-std::string describePlace(const ParticlePlace& place, double spacing);
-
 /// What one cached frame says about the physics.
 struct FrameState {
   int frame = 0;
