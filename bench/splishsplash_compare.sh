@@ -82,7 +82,7 @@ run_sphfx() {  # n round [sphfx options]
     "$out/$name/manifest.json")
   criteria=$("$build/cli/sphfx" inspect "$out/$name" --criteria speed walls)
   fastest=$(echo "$criteria" | sed -n 's/.*fastest \([0-9.]*\) m\/s.*/\1/p')
-  closest=$(echo "$criteria" | sed -n 's/.*closest centre at ([^)]*) m, \([0-9.]*\) s from.*/\1/p')
+  closest=$(echo "$criteria" | sed -n 's/.*closest centre at ([^)]*) m, \([0-9.]*\) spacings from.*/\1/p')
   echo "$name $steps $fastest $closest" >> "$out/flow"
 }
 run_peer() {  # n round

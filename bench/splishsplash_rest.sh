@@ -43,5 +43,5 @@ frames.sort()
 end = frames[-1][0]
 last = [f for f in frames if f[0] >= 0.75 * end]
 print(f"particles {frames[-1][4]}, {end:.2f} s: KE/m {sum(f[1] for f in last) / len(last):.3e} J/kg (last quarter), "
-      f"fastest {max(f[2] for f in frames):.3f} m/s, closest centre {min(f[3] for f in frames):.3f} s from a wall")
+      f"fastest {max(f[2] for f in frames):.3f} m/s, closest centre {min(f[3] for f in frames):.3f} spacings from a wall")
 PY

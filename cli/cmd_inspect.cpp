@@ -32,8 +32,8 @@ void printStates(const std::vector<study::FrameState>& states, double spacing, s
   for (size_t i = 0; i < states.size(); ++i) {
     if (i % every != 0 && i + 1 != states.size()) continue;
     const auto& s = states[i];
-    std::printf("%6d %8.4f %9zu %11.3e %11.5f %9.4f %10.5f %9s   gap %.3f s\n", s.frame, s.time, s.particles,
-                s.kineticPerMass, s.energyPerMass, s.maxSpeed, s.surfaceHeight,
+    std::printf("%6d %8.4f %9zu %11.3e %11.5f %9.4f %10.5f %9s   gap %.3f spacings\n", s.frame, s.time,
+                s.particles, s.kineticPerMass, s.energyPerMass, s.maxSpeed, s.surfaceHeight,
                 std::isfinite(s.bulkDensityRatio) ? fmt::format("{:.4f}", s.bulkDensityRatio).c_str() : "-",
                 s.closest.wallGap / spacing);
   }

@@ -26,8 +26,8 @@ constexpr double kRestDensityTolerance = 0.005;
 constexpr double kRestKineticFraction = 0.5e-4;
 // A closed system may gain at most 1 % of g H per unit mass (time integration noise), never more.
 constexpr double kEnergyGrowthFraction = 0.01;
-// The last-resort clamp keeps centres 0.05 s from a wall; a gap under 0.1 s means the boundary model
-// let the particle through and only the clamp held it.
+// The last-resort clamp keeps centres 0.05 spacings from a wall; a gap under 0.1 spacings means the boundary
+// model let the particle through and only the clamp held it.
 constexpr double kMinWallGapSpacings = 0.1;
 
 // Signed distance from collider c's surface, positive outside, at world point p for its pose.
@@ -68,14 +68,14 @@ ParticlePlace placeOf(const Scene& scene, const std::vector<ColliderPose>& poses
   return place;
 }
 
-// "at (x, y, z) m, G s from the domain's x-max wall" (G in spacings; "collider c" for a collider; the
-// position alone without walls).
+// "at (x, y, z) m, G spacings from the domain's x-max wall" ("collider c" for a collider; the position
+// alone without walls).
 std::string describePlace(const ParticlePlace& place, double spacing) {
   static const char* face[6] = {"x-min", "x-max", "y-min", "y-max", "z-min", "z-max"};
   const auto& p = place.centre;
   std::string text = fmt::format("at ({:.4f}, {:.4f}, {:.4f}) m", p[0], p[1], p[2]);
   if (place.wall >= 0)
-    text += fmt::format(", {:.3f} s from {}", place.wallGap / spacing,
+    text += fmt::format(", {:.3f} spacings from {}", place.wallGap / spacing,
                         place.wall < 6 ? fmt::format("the domain's {} wall", face[place.wall])
                                        : fmt::format("collider {}", place.wall - 6));
   return text;
@@ -246,9 +246,9 @@ CriterionResult judgeRest(const std::vector<FrameState>& st, const Scene& scene)
   r.passed = drift < kRestDriftSpacings && haveDensity && std::fabs(worstDensity) <= kRestDensityTolerance &&
              kinetic < kineticBound;
   r.measured =
-      fmt::format("surface drift {:.3f} s, bulk density {} (worst), KE/m {:.2e} J/kg (last quarter)", drift,
-                  haveDensity ? fmt::format("{:+.2f} %", 100 * worstDensity) : "not cached", kinetic);
-  r.bound = fmt::format("< {} s, within {:.1f} %, < {:.2e} J/kg", kRestDriftSpacings,
+      fmt::format("surface drift {:.3f} spacings, bulk density {} (worst), KE/m {:.2e} J/kg (last quarter)",
+                  drift, haveDensity ? fmt::format("{:+.2f} %", 100 * worstDensity) : "not cached", kinetic);
+  r.bound = fmt::format("< {} spacings, within {:.1f} %, < {:.2e} J/kg", kRestDriftSpacings,
                         100 * kRestDensityTolerance, kineticBound);
   return r;
 }
@@ -283,7 +283,7 @@ CriterionResult judgeWalls(const std::vector<FrameState>& st, const Scene& scene
   const double s = scene.fluid.spacing;
   r.passed = worst->closest.wallGap >= kMinWallGapSpacings * s;
   r.measured = worst->closest.wall >= 0 ? "closest centre " + describePlace(worst->closest, s) : "no walls";
-  r.bound = fmt::format(">= {} s (rest: 0.5 s)", kMinWallGapSpacings);
+  r.bound = fmt::format(">= {} spacings (rest: 0.5)", kMinWallGapSpacings);
   return r;
 }
 

@@ -221,12 +221,13 @@ void writeStabilityOutputs(const StabilitySuite& suite, bool quick, const Stabil
   }
   if (!largest.empty()) {
     md +=
-        "\nLargest stable fixed time step (the largest tried that completed; the first larger one and how "
-        "it ended):\n\n| case | solver | largest stable dt (s) | first unstable |\n|---|---|---|---|\n";
+        "\nLargest stable fixed time step (the largest tried that completed and met the case's criteria; "
+        "the smallest tried that did not, and how it ended):\n\n| case | solver | largest stable dt (s) | "
+        "first unstable |\n|---|---|---|---|\n";
     for (const auto& [key, value] : largest)
       md += fmt::format("| {} | {} | {} | {} |\n", key.first, key.second,
-                        value.first > 0 ? fmt::format("{:g}", value.first) : "none tried completed",
-                        value.second.empty() ? "(all tried completed)" : value.second);
+                        value.first > 0 ? fmt::format("{:g}", value.first) : "none of those tried",
+                        value.second.empty() ? "(every one tried was stable)" : value.second);
   }
   md += "\nStopped runs and their causes:\n\n";
   for (const auto& r : report.runs)

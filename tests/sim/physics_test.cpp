@@ -311,7 +311,7 @@ TEST(Physics, DfsphWendlandColumnKeepsItsLattice) {
   const double drift = (surface0 - topLayerSurface(f, perLayer, s)) / s;
   const double last = lastQuarterMean(kinetic);
   std::printf(
-      "lower third's lattice order %.3f, surface drift %.3f s, KE/m over the last quarter %.3e J/kg\n",
+      "lower third's lattice order %.3f, surface drift %.3f spacings, KE/m over the last quarter %.3e J/kg\n",
       lattice, drift, last);
   EXPECT_GT(lattice, 0.9);
   EXPECT_LT(std::fabs(drift), 0.15);
@@ -334,7 +334,7 @@ TEST(Physics, DfsphStiffArtificialViscosityLeavesTheColumnAtRest) {
   const std::vector<double> kinetic = kineticPerMassToTheEnd(sim, scene);
   const double drift = (surface0 - topLayerSurface(sim.cacheFrame(), 36, s)) / s;
   const double last = lastQuarterMean(kinetic);
-  std::printf("surface drift %.3f s, KE/m over the last quarter %.3e J/kg (bound %.3e)\n", drift, last,
+  std::printf("surface drift %.3f spacings, KE/m over the last quarter %.3e J/kg (bound %.3e)\n", drift, last,
               0.5e-4 * gH);
   EXPECT_LT(std::fabs(drift), 0.5);
   EXPECT_LT(last, 0.5e-4 * gH);

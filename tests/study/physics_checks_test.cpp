@@ -71,7 +71,7 @@ TEST(PhysicsChecks, EachViolationIsCaught) {
   const CriterionResult through = judge(Criterion::Walls, states(scene, {rest, pressed}), scene);
   EXPECT_FALSE(through.passed);
   EXPECT_EQ(through.worstFrame, 2);
-  EXPECT_NE(through.measured.find("0.050 s from the domain's y-min wall"), std::string::npos)
+  EXPECT_NE(through.measured.find("0.050 spacings from the domain's y-min wall"), std::string::npos)
       << through.measured;
 
   ParticleFrame fast = restingFrame(scene, 2);
@@ -89,10 +89,10 @@ TEST(PhysicsChecks, EachViolationIsCaught) {
     if (d < gap) gap = d, nearest = k;
   }
   EXPECT_EQ(thrown.worstFrame, 2);
-  EXPECT_NE(
-      thrown.measured.find(fmt::format("at ({:.4f}, {:.4f}, {:.4f}) m, {:.3f} s from the domain's {} wall",
-                                       p[0], p[1], p[2], gap / 0.01, faces[nearest])),
-      std::string::npos)
+  EXPECT_NE(thrown.measured.find(
+                fmt::format("at ({:.4f}, {:.4f}, {:.4f}) m, {:.3f} spacings from the domain's {} wall", p[0],
+                            p[1], p[2], gap / 0.01, faces[nearest])),
+            std::string::npos)
       << thrown.measured;
   ParticleFrame lifted = restingFrame(scene, 2);
   for (auto& p : lifted.position) p[1] += 0.002f;  // E/m grows by g * 0.002 = 2 % of g H

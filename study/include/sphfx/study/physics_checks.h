@@ -72,7 +72,7 @@ const char* toString(Criterion c);
 struct CriterionResult {
   Criterion criterion{};
   bool passed = false;
-  std::string measured;  ///< e.g. "drift 0.12 s, bulk density -0.21 %, KE/m 3.1e-06 J/kg"
+  std::string measured;  ///< e.g. "surface drift 0.120 spacings, bulk density -0.21 % (worst), ..."
   std::string bound;     ///< e.g. "< 0.5 s, within 0.5 %, < 1.5e-04 J/kg"
   int worstFrame = 0;    ///< where the measured figure is worst
   /// false where the criterion does not apply to the scene (then `passed` is true and `measured` says why):
