@@ -96,7 +96,11 @@ double surfaceHeightOf(const ParticleFrame& f, const Scene& scene) {
 
 }  // namespace
 
-FrameState measureFrameState(const ParticleFrame& f, const Scene& scene,
+ParticleBounds particleBounds(const Scene& scene) {
+  return {kMinWallGapSpacings * scene.fluid.spacing, speedBound(scene)};
+}
+
+FrameState measureFrameState(const ParticleFrame& f, const Scene& scene, const ParticleBounds& bounds,
                              const std::vector<ColliderField>& fields) {
   FrameState st;
   st.frame = f.frame;
@@ -123,6 +127,8 @@ FrameState measureFrameState(const ParticleFrame& f, const Scene& scene,
       st.fastest = place;
     }
     if (gap < st.closest.wallGap) st.closest = place;
+    st.closerThanBound += gap < bounds.wallGap ? 1 : 0;
+    st.fasterThanBound += std::sqrt(v2) > bounds.speed ? 1 : 0;
     if (haveDensity && gap >= h && f.position[i][1] < st.surfaceHeight - h) {
       bulk += f.density[i];
       ++bulkCount;
@@ -140,9 +146,11 @@ std::vector<FrameState> measureShot(const std::string& shotDir, const Scene& sce
     if (scene.colliders[c].isField())
       fields[c] =
           buildColliderField(scene.colliders[c], c, colliderFieldSpec(scene), colliderFieldPath(shotDir, c));
+  const ParticleBounds bounds = particleBounds(scene);
   std::vector<FrameState> states;
   for (int frame : listFrames((fs::path(shotDir) / "cache").string(), "particles", "vdb"))
-    states.push_back(measureFrameState(readParticleCache(particleCachePath(shotDir, frame)), scene, fields));
+    states.push_back(
+        measureFrameState(readParticleCache(particleCachePath(shotDir, frame)), scene, bounds, fields));
   return states;
 }
 
@@ -274,6 +282,21 @@ CriterionResult judgeEnergy(const std::vector<FrameState>& st, const Scene& scen
   return r;
 }
 
+// How far a miss reaches: "; 3 particles faster than the bound in that frame (up to 5 in one), 2 frames
+// with any" (empty where no particle breaks the bound: a pass).
+std::string describeExtent(const std::vector<FrameState>& st, size_t FrameState::*count,
+                           const FrameState& worst, const char* comparative) {
+  size_t frames = 0, most = 0;
+  for (const auto& f : st) {
+    frames += f.*count > 0 ? 1 : 0;
+    most = std::max(most, f.*count);
+  }
+  if (frames == 0) return "";
+  const size_t n = worst.*count;
+  return fmt::format("; {} particle{} {} than the bound in that frame (up to {} in one), {} frame{} with any",
+                     n, n == 1 ? "" : "s", comparative, most, frames, frames == 1 ? "" : "s");
+}
+
 CriterionResult judgeWalls(const std::vector<FrameState>& st, const Scene& scene) {
   CriterionResult r{Criterion::Walls};
   const FrameState* worst = &st.front();
@@ -283,6 +306,7 @@ CriterionResult judgeWalls(const std::vector<FrameState>& st, const Scene& scene
   const double s = scene.fluid.spacing;
   r.passed = worst->closest.wallGap >= kMinWallGapSpacings * s;
   r.measured = worst->closest.wall >= 0 ? "closest centre " + describePlace(worst->closest, s) : "no walls";
+  r.measured += describeExtent(st, &FrameState::closerThanBound, *worst, "nearer");
   r.bound = fmt::format(">= {} spacings (rest: 0.5)", kMinWallGapSpacings);
   return r;
 }
@@ -296,7 +320,8 @@ CriterionResult judgeSpeed(const std::vector<FrameState>& st, const Scene& scene
   const double bound = speedBound(scene);
   r.passed = worst->maxSpeed <= bound;
   r.measured = fmt::format("fastest {:.3f} m/s {}", worst->maxSpeed,
-                           describePlace(worst->fastest, scene.fluid.spacing));
+                           describePlace(worst->fastest, scene.fluid.spacing)) +
+               describeExtent(st, &FrameState::fasterThanBound, *worst, "faster");
   r.bound = fmt::format("<= {:.3f} m/s", bound);
   return r;
 }

@@ -38,7 +38,7 @@ ParticleFrame restingFrame(const Scene& scene, int frame) {
 
 std::vector<FrameState> states(const Scene& scene, const std::vector<ParticleFrame>& frames) {
   std::vector<FrameState> s;
-  for (const auto& f : frames) s.push_back(measureFrameState(f, scene));
+  for (const auto& f : frames) s.push_back(measureFrameState(f, scene, particleBounds(scene)));
   return s;
 }
 
@@ -54,6 +54,39 @@ TEST(PhysicsChecks, ATankAtRestOnItsLatticeMeetsEveryCriterion) {
   EXPECT_NEAR(st[0].energyPerMass, 9.81 * 0.05, 1e-5);
   for (Criterion c : {Criterion::Rest, Criterion::Energy, Criterion::Walls, Criterion::Speed})
     EXPECT_TRUE(judge(c, st, scene).passed) << toString(c) << ": " << judge(c, st, scene).measured;
+}
+
+TEST(PhysicsChecks, AMissSaysHowManyParticlesBreakTheBoundAndInHowManyFrames) {
+  const Scene scene = tankScene();
+  const ParticleFrame rest = restingFrame(scene, 1);
+  // Frame 2: one centre 0.04 spacings above the floor (the worst); frame 3: three at 0.06.
+  ParticleFrame one = restingFrame(scene, 2), three = restingFrame(scene, 3);
+  one.position[0][1] = 0.0004f;
+  for (int i : {0, 1, 2}) three.position[i][1] = 0.0006f;
+  const CriterionResult walls = judge(Criterion::Walls, states(scene, {rest, one, three}), scene);
+  EXPECT_FALSE(walls.passed);
+  EXPECT_EQ(walls.worstFrame, 2);
+  EXPECT_NE(walls.measured.find(
+                "; 1 particle nearer than the bound in that frame (up to 3 in one), 2 frames with any"),
+            std::string::npos)
+      << walls.measured;
+
+  // Frame 2: two particles faster than the bound, the faster of them the worst; no other frame.
+  ParticleFrame fast = restingFrame(scene, 2);
+  fast.velocity[100] = {float(1.01 * speedBound(scene)), 0, 0};
+  fast.velocity[600] = {0, float(-1.02 * speedBound(scene)), 0};
+  const CriterionResult speed = judge(Criterion::Speed, states(scene, {rest, fast, rest}), scene);
+  EXPECT_FALSE(speed.passed);
+  EXPECT_EQ(speed.worstFrame, 2);
+  EXPECT_NE(speed.measured.find(
+                "; 2 particles faster than the bound in that frame (up to 2 in one), 1 frame with any"),
+            std::string::npos)
+      << speed.measured;
+
+  // A pass says nothing of the kind.
+  for (Criterion c : {Criterion::Walls, Criterion::Speed})
+    EXPECT_EQ(judge(c, states(scene, {rest, rest}), scene).measured.find("than the bound"),
+              std::string::npos);
 }
 
 TEST(PhysicsChecks, BoundsFollowFromTheScene) {

@@ -42,12 +42,26 @@ struct FrameState {
   /// The particle whose centre is closest to a wall face or collider surface; its wallGap is s/2 at rest
   /// on the initial lattice.
   ParticlePlace closest;
+  /// How many particles break the walls and speed criteria's bounds (ParticleBounds) in this frame: a lone
+  /// stray reads apart from a sheet.
+  size_t closerThanBound = 0;
+  size_t fasterThanBound = 0;
 };
 
-/// `fields` holds the mesh and vdb colliders' distance fields by collider index (measureShot builds
-/// them); a field collider without one is left out of the wall gap.
+/// The per-particle bounds of the walls and speed criteria for a scene.
+struct ParticleBounds {
+  double wallGap = 0;                                      ///< closest a centre may come to a wall (m)
+  double speed = std::numeric_limits<double>::infinity();  ///< speedBound() (m/s)
+};
+
+/// @throws as seedParticles (the speed bound reads the initial fluid).
+ParticleBounds particleBounds(const Scene& scene);
+
+/// `bounds`: particleBounds(scene), which FrameState counts particles against. `fields` holds the mesh
+/// and vdb colliders' distance fields by collider index (measureShot builds them); a field collider
+/// without one is left out of the wall gap.
 /// @throws nothing; an empty frame gives zeros (gap: infinity).
-FrameState measureFrameState(const ParticleFrame& frame, const Scene& scene,
+FrameState measureFrameState(const ParticleFrame& frame, const Scene& scene, const ParticleBounds& bounds,
                              const std::vector<ColliderField>& fields = {});
 
 /// Every cached frame of a shot, in frame order. Mesh and vdb colliders' fields are the ones the
@@ -59,7 +73,7 @@ std::vector<FrameState> measureShot(const std::string& shotDir, const Scene& sce
 enum class Criterion {
   Rest,    ///< surface height drift < s/2, bulk density within 0.5 %, kinetic energy settles
   Energy,  ///< a closed system: total energy never grows by more than 1 % of g H
-  Walls,   ///< no particle closer than 0.1 s to a wall or collider surface
+  Walls,   ///< no particle centre closer than 0.1 spacings to a wall or collider surface
   Speed    ///< no particle faster than speedBound()
 };
 
@@ -73,7 +87,7 @@ struct CriterionResult {
   Criterion criterion{};
   bool passed = false;
   std::string measured;  ///< e.g. "surface drift 0.120 spacings, bulk density -0.21 % (worst), ..."
-  std::string bound;     ///< e.g. "< 0.5 s, within 0.5 %, < 1.5e-04 J/kg"
+  std::string bound;     ///< e.g. "< 0.5 spacings, within 0.5 %, < 1.50e-04 J/kg"
   int worstFrame = 0;    ///< where the measured figure is worst
   /// false where the criterion does not apply to the scene (then `passed` is true and `measured` says why):
   /// rest and energy in a scene whose emitters, kill boxes or open faces change its fluid, or whose
