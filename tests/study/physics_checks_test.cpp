@@ -42,6 +42,13 @@ std::vector<FrameState> states(const Scene& scene, const std::vector<ParticleFra
   return s;
 }
 
+// A miss of the criterion whose worst frame is `frame` and whose measured text contains `text`.
+void expectMiss(const CriterionResult& r, int frame, const std::string& text) {
+  EXPECT_FALSE(r.passed);
+  EXPECT_EQ(r.worstFrame, frame);
+  EXPECT_NE(r.measured.find(text), std::string::npos) << r.measured;
+}
+
 }  // namespace
 
 TEST(PhysicsChecks, ATankAtRestOnItsLatticeMeetsEveryCriterion) {
@@ -63,25 +70,15 @@ TEST(PhysicsChecks, AMissSaysHowManyParticlesBreakTheBoundAndInHowManyFrames) {
   ParticleFrame one = restingFrame(scene, 2), three = restingFrame(scene, 3);
   one.position[0][1] = 0.0004f;
   for (int i : {0, 1, 2}) three.position[i][1] = 0.0006f;
-  const CriterionResult walls = judge(Criterion::Walls, states(scene, {rest, one, three}), scene);
-  EXPECT_FALSE(walls.passed);
-  EXPECT_EQ(walls.worstFrame, 2);
-  EXPECT_NE(walls.measured.find(
-                "; 1 particle nearer than the bound in that frame (up to 3 in one), 2 frames with any"),
-            std::string::npos)
-      << walls.measured;
+  expectMiss(judge(Criterion::Walls, states(scene, {rest, one, three}), scene), 2,
+             "; 1 particle nearer than the bound in that frame (up to 3 in one), 2 frames with any");
 
   // Frame 2: two particles faster than the bound, the faster of them the worst; no other frame.
   ParticleFrame fast = restingFrame(scene, 2);
   fast.velocity[100] = {float(1.01 * speedBound(scene)), 0, 0};
   fast.velocity[600] = {0, float(-1.02 * speedBound(scene)), 0};
-  const CriterionResult speed = judge(Criterion::Speed, states(scene, {rest, fast, rest}), scene);
-  EXPECT_FALSE(speed.passed);
-  EXPECT_EQ(speed.worstFrame, 2);
-  EXPECT_NE(speed.measured.find(
-                "; 2 particles faster than the bound in that frame (up to 2 in one), 1 frame with any"),
-            std::string::npos)
-      << speed.measured;
+  expectMiss(judge(Criterion::Speed, states(scene, {rest, fast, rest}), scene), 2,
+             "; 2 particles faster than the bound in that frame (up to 2 in one), 1 frame with any");
 
   // A pass says nothing of the kind.
   for (Criterion c : {Criterion::Walls, Criterion::Speed})
@@ -101,11 +98,8 @@ TEST(PhysicsChecks, EachViolationIsCaught) {
 
   ParticleFrame pressed = restingFrame(scene, 2);
   pressed.position[0][1] = 0.0005f;  // 0.05 s above the floor: only the last-resort clamp holds it
-  const CriterionResult through = judge(Criterion::Walls, states(scene, {rest, pressed}), scene);
-  EXPECT_FALSE(through.passed);
-  EXPECT_EQ(through.worstFrame, 2);
-  EXPECT_NE(through.measured.find("0.050 spacings from the domain's y-min wall"), std::string::npos)
-      << through.measured;
+  expectMiss(judge(Criterion::Walls, states(scene, {rest, pressed}), scene), 2,
+             "0.050 spacings from the domain's y-min wall");
 
   ParticleFrame fast = restingFrame(scene, 2);
   fast.velocity[500] = {0, 0, float(1.01 * speedBound(scene))};
