@@ -258,6 +258,9 @@ CriterionResult judgeRest(const std::vector<FrameState>& st, const Scene& scene)
                   drift, haveDensity ? fmt::format("{:+.2f} %", 100 * worstDensity) : "not cached", kinetic);
   r.bound = fmt::format("< {} spacings, within {:.1f} %, < {:.2e} J/kg", kRestDriftSpacings,
                         100 * kRestDensityTolerance, kineticBound);
+  r.figure = fmt::format("drift {:.3f} spacings, bulk {}, KE/m {:.2e} J/kg (bound {:.2e})", drift,
+                         haveDensity ? fmt::format("{:+.2f} %", 100 * worstDensity) : "not cached", kinetic,
+                         kineticBound);
   return r;
 }
 
@@ -279,6 +282,7 @@ CriterionResult judgeEnergy(const std::vector<FrameState>& st, const Scene& scen
                            scale > 0 ? 100 * growth / scale : 0.0, unit, st.front().energyPerMass,
                            st.back().energyPerMass);
   r.bound = fmt::format("<= {:.0f} % of {}", 100 * kEnergyGrowthFraction, unit);
+  r.figure = fmt::format("{:+.3f} % of {}", scale > 0 ? 100 * growth / scale : 0.0, unit);
   return r;
 }
 
@@ -308,6 +312,8 @@ CriterionResult judgeWalls(const std::vector<FrameState>& st, const Scene& scene
   r.measured = worst->closest.wall >= 0 ? "closest centre " + describePlace(worst->closest, s) : "no walls";
   r.measured += describeExtent(st, &FrameState::closerThanBound, *worst, "nearer");
   r.bound = fmt::format(">= {} spacings (rest: 0.5)", kMinWallGapSpacings);
+  r.figure =
+      worst->closest.wall >= 0 ? fmt::format("{:.3f} spacings", worst->closest.wallGap / s) : "no walls";
   return r;
 }
 
@@ -323,6 +329,7 @@ CriterionResult judgeSpeed(const std::vector<FrameState>& st, const Scene& scene
                            describePlace(worst->fastest, scene.fluid.spacing)) +
                describeExtent(st, &FrameState::fasterThanBound, *worst, "faster");
   r.bound = fmt::format("<= {:.3f} m/s", bound);
+  r.figure = fmt::format("{:.3f} m/s (bound {:.3f})", worst->maxSpeed, bound);
   return r;
 }
 

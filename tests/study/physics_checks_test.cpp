@@ -61,6 +61,14 @@ TEST(PhysicsChecks, ATankAtRestOnItsLatticeMeetsEveryCriterion) {
   EXPECT_NEAR(st[0].energyPerMass, 9.81 * 0.05, 1e-5);
   for (Criterion c : {Criterion::Rest, Criterion::Energy, Criterion::Walls, Criterion::Speed})
     EXPECT_TRUE(judge(c, st, scene).passed) << toString(c) << ": " << judge(c, st, scene).measured;
+  // The figures alone, as the stability report's table of runs prints them.
+  // KE/m bound 0.5e-4 g H and speed bound 2 sqrt(g H), H = 0.1 m.
+  EXPECT_EQ(judge(Criterion::Rest, st, scene).figure,
+            "drift 0.000 spacings, bulk +0.00 %, KE/m 0.00e+00 J/kg (bound 4.90e-05)");
+  EXPECT_EQ(judge(Criterion::Energy, st, scene).figure, "+0.000 % of g H");
+  EXPECT_EQ(judge(Criterion::Walls, st, scene).figure, "0.500 spacings");
+  EXPECT_EQ(judge(Criterion::Speed, st, scene).figure,
+            fmt::format("0.000 m/s (bound {:.3f})", 2 * std::sqrt(9.81 * 0.1)));
 }
 
 TEST(PhysicsChecks, AMissSaysHowManyParticlesBreakTheBoundAndInHowManyFrames) {
