@@ -136,6 +136,20 @@ std::map<std::string, double> measureTaylorGreen(const Scene& scene,
 
 }  // namespace
 
+std::vector<std::string> errorMetrics(Validation v) {
+  switch (v) {
+    case Validation::DamBreak:
+      return {"front_rms", "front_max", "front_self", "height_rms", "height_max"};
+    case Validation::Hydrostatic:
+      return {"pressure_l2", "pressure_profile_l2", "density_mean_error", "density_max_error"};
+    case Validation::Poiseuille:
+      return {"profile_l2_mean", "profile_l2_final"};
+    case Validation::TaylorGreen:
+      return {"decay_rate_error", "amplitude_rms"};
+  }
+  return {};
+}
+
 std::string primaryMetric(Validation v) {
   switch (v) {
     case Validation::DamBreak:

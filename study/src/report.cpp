@@ -188,7 +188,9 @@ std::string convergenceText(const StudyCase& c, const std::vector<const RunResul
   std::map<std::string, std::map<std::string, std::vector<std::pair<double, double>>>> groups;
   std::vector<std::string> names{primary};
   for (const RunResult* r : runs) {
-    if (!measured(*r)) continue;
+    // Every completed run, so that each error has all its points (the primary one may be missing where
+    // it is measured against the finest run, front_self).
+    if (r->outcome.status != RunStatus::Completed) continue;
     RunResult key = *r;
     const double h = std::stod(key.parameters.at(c.convergenceAxis));
     key.parameters.erase(c.convergenceAxis);
@@ -201,15 +203,14 @@ std::string convergenceText(const StudyCase& c, const std::vector<const RunResul
   }
   std::string t = fmt::format(
       "\nObserved order of convergence of each error along {} (least-squares slope of log error "
-      "against log {}):\n\n| other parameters | points |",
-      c.convergenceAxis, c.convergenceAxis);
+      "against log {}):\n\n| other parameters | {} points |",
+      c.convergenceAxis, c.convergenceAxis, primary);
   for (const auto& name : names) t += " " + name + " |";
   t += "\n|---|---|";
   for (size_t i = 0; i < names.size(); ++i) t += "---|";
   t += "\n";
   for (const auto& [group, metrics] : groups) {
-    const auto& primaryPoints = metrics.count(primary) ? metrics.at(primary) : metrics.begin()->second;
-    t += fmt::format("| {} | {} |", group, primaryPoints.size());
+    t += fmt::format("| {} | {} |", group, metrics.count(primary) ? metrics.at(primary).size() : 0);
     for (const auto& name : names) {
       const auto it = metrics.find(name);
       std::set<double> distinct;

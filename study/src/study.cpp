@@ -130,7 +130,7 @@ std::vector<RunResult> runStudy(const StudySpec& spec, const std::string& outDir
     for (const auto& point : points) {
       RunResult r;
       r.caseName = c.name;
-      r.primaryMetric = primaryMetric(c.validation);
+      r.primaryMetric = c.metric.empty() ? primaryMetric(c.validation) : c.metric;
       for (const auto& [path, value] : point) r.parameters[path] = valueText(value);
       const std::string runDir =
           (fs::path(outDir) / "runs" / fmt::format("{}-{:03d}", c.name, index++)).string();

@@ -1,3 +1,7 @@
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 
@@ -43,9 +47,23 @@ std::shared_ptr<const Object<StudyCase>> caseSchema() {
               "Axis (usually fluid.spacing) along which the observed order of convergence is computed.")
         .text("series_axis", &StudyCase::seriesAxis, "",
               "Axis whose values are the plot's series (e.g. solver.method).")
+        .text("metric", &StudyCase::metric, "",
+              "Error the runs are ranked by (the time-budget front, the plot): one of the validation's "
+              "errors; empty: its primary one. front_self, the dam break's distance from the case's finest "
+              "run along convergence_axis, ranks resolutions by their discretisation error alone.")
         .check([](const StudyCase& c, const Json&, const std::string& path) {
           if (c.name.empty()) throw SchemaError(schema::childPath(path, "name"), "expected a case name");
           if (c.scene.empty()) throw SchemaError(schema::childPath(path, "scene"), "expected a scene file");
+          if (!c.metric.empty()) {
+            const auto names = errorMetrics(c.validation);
+            if (std::find(names.begin(), names.end(), c.metric) == names.end())
+              throw SchemaError(
+                  schema::childPath(path, "metric"),
+                  fmt::format("expected one of {}, got \"{}\"", fmt::join(names, ", "), c.metric));
+            if (c.metric == "front_self" && c.convergenceAxis.empty())
+              throw SchemaError(schema::childPath(path, "metric"),
+                                "front_self needs a convergence_axis (its finest run is the reference)");
+          }
           for (const std::string* key : {&c.convergenceAxis, &c.seriesAxis}) {
             if (key->empty()) continue;
             bool found = false;

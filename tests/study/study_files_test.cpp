@@ -3,10 +3,12 @@
 // long study cannot stop hours in on a bad grid point.
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <map>
 #include <set>
 #include <string>
 
+#include "sphfx/core/error.h"
 #include "sphfx/core/scene.h"
 #include "sphfx/study/study.h"
 
@@ -85,3 +87,27 @@ TEST(StudyFiles, QuickStudyHasPoiseuilleAtThreeOrMoreSpacings) {
 }
 
 }  // namespace
+
+// A case's ranking error is one its validation measures; front_self (the distance from the case's finest
+// run) needs the axis along which the finest run is found.
+TEST(StudyFiles, ACaseRanksByAnErrorItsValidationMeasures) {
+  const std::string path = testing::TempDir() + "metric_study.json";
+  auto loadWith = [&](const std::string& extra) {
+    std::ofstream(path)
+        << R"({"cases": [{"name": "d", "scene": "scenes/dam_break.json", "validation": "dam_break",
+      "axes": [{"path": "fluid.spacing", "values": [0.02, 0.01]}])"
+        << extra << "}]}";
+    return loadStudy(path);
+  };
+  EXPECT_EQ(loadWith(R"(, "convergence_axis": "fluid.spacing", "metric": "front_self")").cases[0].metric,
+            "front_self");
+  EXPECT_EQ(loadWith("").cases[0].metric, "");  // the primary error, front_rms
+  for (const char* bad : {R"(, "metric": "pressure_l2")", R"(, "metric": "front_self")"}) {
+    try {
+      loadWith(bad);
+      ADD_FAILURE() << bad << " loaded";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("/cases/0/metric"), std::string::npos) << e.what();
+    }
+  }
+}

@@ -37,6 +37,7 @@ struct StudyCase {
   std::vector<Axis> axes;        ///< the grid is their Cartesian product
   std::string convergenceAxis;   ///< axis along which the observed order is computed ("" = none)
   std::string seriesAxis;        ///< axis whose values are the plot's series (e.g. solver.method)
+  std::string metric;            ///< error the front and the plot rank by ("" = primaryMetric(validation))
 };
 
 struct StudySpec {
@@ -129,6 +130,8 @@ std::map<std::string, double> measureShot(Validation validation, const std::stri
 void addFrontSelfConvergence(const StudyCase& c, const Scene& scene, std::vector<RunResult*> runs);
 /// The metric a validation type is judged by (plotted against wall time).
 std::string primaryMetric(Validation validation);
+/// The errors a case of `validation` may rank its runs by (StudyCase::metric): primaryMetric() first.
+std::vector<std::string> errorMetrics(Validation validation);
 
 struct StudyOptions {
   std::string sphfxExe;         ///< the sphfx executable to run (normally /proc/self/exe)
