@@ -167,10 +167,9 @@ std::string criteriaCell(const StabilityRun& r) {
 std::string verdictText(const StabilityReport& report) {
   std::string t =
       "\nMissed criteria and known misses (measured from the caches; every criterion's figure is in the "
-      "table "
-      "above, its bound in docs/validation.md):\n\n| case | solver | particles | criterion | measured | "
-      "bound | "
-      "verdict |\n|---|---|---|---|---|---|---|\n";
+      "table above, its bound in docs/validation.md):\n\n"
+      "| case | solver | particles | criterion | measured | bound | verdict |\n"
+      "|---|---|---|---|---|---|---|\n";
   size_t rows = 0;
   for (const auto& r : report.runs)
     if (r.fixedDt == 0)
