@@ -151,17 +151,7 @@ std::vector<std::string> errorMetrics(Validation v) {
 }
 
 std::string primaryMetric(Validation v) {
-  switch (v) {
-    case Validation::DamBreak:
-      return "front_rms";
-    case Validation::Hydrostatic:
-      return "pressure_l2";
-    case Validation::Poiseuille:
-      return "profile_l2_mean";
-    case Validation::TaylorGreen:
-      return "decay_rate_error";
-  }
-  return "";
+  return errorMetrics(v).front();
 }
 
 std::map<std::string, double> measureShot(Validation validation, const std::string& sceneFile,

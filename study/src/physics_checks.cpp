@@ -121,14 +121,14 @@ FrameState measureFrameState(const ParticleFrame& f, const Scene& scene, const P
     kinetic += 0.5 * v2;
     potential += g * (f.position[i][1] - floor);
     const ParticlePlace place = placeOf(scene, poses, fields, f.position[i]);
-    const double gap = place.wallGap;
-    if (std::sqrt(v2) > st.maxSpeed || i == 0) {
-      st.maxSpeed = std::sqrt(v2);
+    const double gap = place.wallGap, speed = std::sqrt(v2);
+    if (speed > st.maxSpeed || i == 0) {
+      st.maxSpeed = speed;
       st.fastest = place;
     }
     if (gap < st.closest.wallGap) st.closest = place;
     st.closerThanBound += gap < bounds.wallGap ? 1 : 0;
-    st.fasterThanBound += std::sqrt(v2) > bounds.speed ? 1 : 0;
+    st.fasterThanBound += speed > bounds.speed ? 1 : 0;
     if (haveDensity && gap >= h && f.position[i][1] < st.surfaceHeight - h) {
       bulk += f.density[i];
       ++bulkCount;
