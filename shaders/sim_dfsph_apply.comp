@@ -68,6 +68,10 @@ void main() {
   float rate = 0.0;  // walls at rest (w may hold the walls' Laplacian sum)
 #endif
   next = sphWallContact(next, b.xyz, dfsphWallContactExcess(i), rate, stateDt);
+#if defined(SIM_COLLIDER_CONTACT)
+  vec4 collider = dfsphColliderContact(i);
+  next = sphWallContact(next, collider.xyz, collider.w, dfsphColliderContactRate(i), stateDt);
+#endif
 #endif
   vel[i] = vec4(next, total);
   // The cache's pressure (p / rho^2): both solves support the fluid, the divergence solve by a velocity

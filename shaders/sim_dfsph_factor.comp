@@ -15,6 +15,9 @@
 #include "sph_group_max.glsl"
 #include "sph_neighbors.glsl"
 #include "sph_dfsph.glsl"
+#if defined(SIM_COLLIDER_CONTACT)
+#include "sph_colliders.glsl"
+#endif
 layout(local_size_x = SIM_WG) in;
 layout(std430, binding = SPHFX_SSBO_SIM_DENSITY) writeonly buffer SimDensity { vec2 densityPressure[]; };
 layout(std430, binding = SPHFX_SSBO_SIM_ACCEL) writeonly buffer SimAccel { vec4 accel[]; };
@@ -102,7 +105,13 @@ void main() {
     dfBoundary[i] = vec4(wallGrad, boundaryW);
 #if defined(SIM_WALL_CONTACT)
     bool sparse = float(listed) + boundaryNeighbours < SIM_WALL_CONTACT;
-    dfBoundary[n + i] = vec4(sparse ? wall - SIM_WALL_CONTACT_REST : -1e30, 0.0, 0.0, 0.0);
+#if defined(SIM_COLLIDER_CONTACT)
+    float colliderRate;
+    dfBoundary[2u * n + i] = sphColliderContact(xi, float(stateTime), colliderRate);
+#else
+    const float colliderRate = 0.0;
+#endif
+    dfBoundary[n + i] = vec4(sparse ? wall - SIM_WALL_CONTACT_REST : -1e30, colliderRate, 0.0, 0.0);
 #endif
     float rho = m * fluid + wall;
     vec3 g = gradSum + wallGrad;

@@ -6,7 +6,11 @@
 #if defined(HAS_COLLIDERS)
 #include "sph_colliders.glsl"
 #endif
-#if defined(SIM_PERIODIC_X) || defined(SIM_PERIODIC_Y) || defined(SIM_PERIODIC_Z)
+#if defined(SIM_COLLIDER_CONTACT) && !defined(SOLVER_DFSPH)
+#define SIM_INTEGRATE_COLLIDER_CONTACT  // WCSPH's; DFSPH applies it in its density iterations
+#endif
+#if defined(SIM_PERIODIC_X) || defined(SIM_PERIODIC_Y) || defined(SIM_PERIODIC_Z) || \
+    defined(SIM_INTEGRATE_COLLIDER_CONTACT)
 #include "sph_kernels.glsl"
 #endif
 #if defined(HAS_VOLUME_SOURCES)
@@ -49,6 +53,13 @@ void main() {
   vec3 v = vel[i].xyz + dt * accel[i].xyz;
 #if defined(HAS_VOLUME_SOURCES)
   v = sphSourceVelocity(pos[i].xyz, v);
+#endif
+#if defined(SIM_INTEGRATE_COLLIDER_CONTACT)
+  // fluid.wall_contact at colliders (sphColliderContact()): with this step's dt, against the colliders'
+  // pose at its start, where the particle is.
+  float rate;
+  vec4 contact = sphColliderContact(pos[i].xyz, float(stateTime - double(dt)), rate);
+  v = sphWallContact(v, contact.xyz, contact.w, rate, dt);
 #endif
   vec3 x = pos[i].xyz + dt * v;
   vec3 lo = simDomainMin.xyz + simViscosity.z, hi = simDomainMax.xyz - simViscosity.z;

@@ -139,6 +139,66 @@ bool sphInsideCollider(uint c, SphColliderPose p, vec3 x) {
 #endif
 }
 
+// Signed distance (m; < 0 inside) from world point x to the surface of collider c placed at pose p, and
+// the outward normal (world) there: exact for boxes and spheres, the trilinear field for mesh and vdb
+// colliders (1e30 without field colliders compiled in).
+float sphColliderDistance(uint c, SphColliderPose p, vec3 x, out vec3 normal) {
+  vec3 r = sphColliderToRest(c, p, x), n = vec3(0, 1, 0);
+  float d = 1e30;
+  uint shape = colliders[c].info.x;
+  if (shape == 0u) {
+    vec3 centre = 0.5 * (colliders[c].shapeA.xyz + colliders[c].shapeB.xyz);
+    vec3 side = mix(vec3(-1.0), vec3(1.0), greaterThanEqual(r, centre));
+    vec3 q = abs(r - centre) - 0.5 * (colliders[c].shapeB.xyz - colliders[c].shapeA.xyz);
+    vec3 beyond = max(q, vec3(0.0));
+    float outside = length(beyond);
+    if (outside > 0.0) {
+      d = outside;
+      n = side * beyond / outside;
+    } else {  // inside: the nearest face
+      int k = q.x >= q.y ? (q.x >= q.z ? 0 : 2) : (q.y >= q.z ? 1 : 2);
+      d = q[k];
+      n = vec3(0.0);
+      n[k] = side[k];
+    }
+  } else if (shape == 1u) {
+    vec3 offset = r - colliders[c].shapeA.xyz;
+    float len = length(offset);
+    d = len - colliders[c].shapeA.w;
+    if (len > 1e-12) n = offset / len;
+  }
+#if defined(HAS_FIELD_COLLIDERS)
+  else {
+    d = sphFieldDistance(c, r, n);
+  }
+#endif
+  normal = sphColliderDirectionToWorld(p, n);
+  return d;
+}
+
+#if defined(SIM_COLLIDER_CONTACT)
+// fluid.wall_contact on colliders, by distance and for every particle: the nearest collider surface to
+// world point x at time t as sphWallContact() (sph_kernels.glsl) takes a constraint: xyz = grad = -n
+// (into the collider), w = excess = SIM_COLLIDER_CONTACT (half a spacing, where a resting particle
+// sits) less the distance; `rate` = the surface's velocity along grad. The walls' kernel sum cannot do
+// this at colliders: near a convex edge it is smaller than a flat face's (fewer samples within h), and a
+// sheet running over an edge keeps enough neighbours to count as bulk. A resting particle (no approach)
+// never meets it.
+vec4 sphColliderContact(vec3 x, float t, out float rate) {
+  vec4 contact = vec4(0.0, -1.0, 0.0, -1e30);
+  rate = 0.0;
+  for (uint c = 0u; c < simCounts.z; ++c) {
+    SphColliderPose p = sphColliderPose(c, t);
+    vec3 n;
+    float excess = SIM_COLLIDER_CONTACT - sphColliderDistance(c, p, x, n);
+    if (excess <= contact.w) continue;
+    contact = vec4(-n, excess);
+    rate = -dot(sphColliderVelocityAt(c, p, x), n);
+  }
+  return contact;
+}
+#endif
+
 // Pushes a particle at x out of collider c (placed for time t) to `margin` outside its surface, and
 // removes the velocity component into the collider relative to the body's velocity there.
 void sphProjectOutOfCollider(uint c, float t, float margin, inout vec3 x, inout vec3 v) {

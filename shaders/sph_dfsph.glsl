@@ -150,7 +150,10 @@ float dfsphWallScale(vec3 xb) {
 //     with DFSPH_WALL_LAPLACIAN_SUM instead w = sum_b psi_b lap W(x_i - x_b) (see below)
 //   dfBoundary[N + i] (fluid.wall_contact, SIM_WALL_CONTACT): x = the walls' kernel sum over i less
 //     SIM_WALL_CONTACT_REST where i has fewer than SIM_WALL_CONTACT neighbours, else -1e30 (the contact,
-//     sphWallContact() in sph_kernels.glsl, never acts)
+//     sphWallContact() in sph_kernels.glsl, never acts); y (SIM_COLLIDER_CONTACT) the nearest collider
+//     surface's velocity along its constraint's gradient
+//   dfBoundary[2N + i] (SIM_COLLIDER_CONTACT): the nearest collider's contact constraint on i, whatever
+//     its neighbours (sphColliderContact() in sph_colliders.glsl)
 // Walls at rest (no colliders) and Laplacian viscosity: the walls' viscous term is
 // nu / rho_i sum_b psi_b lap W_ib (0 - v_i) = -(nu / rho_i) v_i sum_b psi_b lap W_ib, so the factor pass
 // sums psi_b lap W_ib in its boundary loop (in dfBoundary.w, where the walls' velocity term is 0) and the
@@ -184,6 +187,10 @@ vec4 dfsphBoundaryEntry(uint i, uint k) {
 vec4 dfsphBoundary(uint i) { return texelFetch(dfBoundaryTex, int(i)); }
 #if defined(SIM_WALL_CONTACT)
 float dfsphWallContactExcess(uint i) { return texelFetch(dfBoundaryTex, int(DFSPH_CAPACITY + i)).x; }
+#if defined(SIM_COLLIDER_CONTACT)
+float dfsphColliderContactRate(uint i) { return texelFetch(dfBoundaryTex, int(DFSPH_CAPACITY + i)).y; }
+vec4 dfsphColliderContact(uint i) { return texelFetch(dfBoundaryTex, int(2u * DFSPH_CAPACITY + i)); }
+#endif
 #endif
 #endif
 #if defined(DFSPH_LIST_WRITE)

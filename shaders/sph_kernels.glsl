@@ -164,13 +164,14 @@ vec3 sphWrapPosition(vec3 x) {
 }
 #endif
 
-#if defined(SIM_WALL_CONTACT)
+#if defined(SIM_WALL_CONTACT) || defined(SIM_COLLIDER_CONTACT)
 // fluid.wall_contact, for a particle with fewer than SIM_WALL_CONTACT neighbours (fluid and samples
 // within h), where the density no longer holds it off the walls: `excess` is the walls' kernel sum over
 // it less SIM_WALL_CONTACT_REST (a resting particle's half a spacing from a flat wall), `grad` the sum's
 // gradient, `sampleRate` sum_b psi_b v_b . grad W_ib (moving colliders). Returns the velocity less the
 // part along `grad` that would take the sum past the rest value within dt: at most the approach, so the
-// contact never adds energy against walls at rest.
+// contact never adds energy against walls at rest. The colliders' contact (sphColliderContact(),
+// sph_colliders.glsl) passes a distance constraint the same way: unit `grad`, `excess` in metres.
 vec3 sphWallContact(vec3 v, vec3 grad, float excess, float sampleRate, float dt) {
   float g2 = dot(grad, grad), approach = dot(v, grad) - sampleRate;
   float over = excess + dt * approach;

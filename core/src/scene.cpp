@@ -193,11 +193,13 @@ std::shared_ptr<const Object<Fluid>> fluidSchema() {
         .number("wall_contact", &Fluid::wallContact, 0.6, "", Range::closed(0, 1),
                 "Keeps spray and thin sheets off the walls and colliders: a particle with fewer neighbours "
                 "(fluid and samples within h) than this share of a full lattice neighbourhood, where the "
-                "density no longer holds it off, may not come nearer once the walls' kernel sum over it "
-                "passes that of a resting particle half a spacing from a flat wall; the step takes away "
-                "the part of its velocity that would take it nearer (never adding energy). The bulk, "
-                "which has full neighbourhoods, never meets it: a resting tank runs bit for bit as "
-                "without it. 0 leaves it out (particles then reach the walls' last-resort clamp at 0.05 "
+                "density no longer holds it off, may not come nearer to the domain's walls once the walls' "
+                "kernel sum over it passes that of a resting particle half a spacing from a flat wall; "
+                "every particle may not come nearer than half a spacing to a collider's surface (by its "
+                "distance, which holds over convex edges too). The step takes away the part of its "
+                "velocity that would take it nearer (never adding energy). The bulk, which has full "
+                "neighbourhoods, never meets it at the walls: a resting tank without colliders runs bit for "
+                "bit as without it. 0 leaves it out (particles then reach the last-resort clamp at 0.05 "
                 "spacings, docs/validation.md).")
         .list("blocks", &Fluid::blocks, fluidBlockSchema(), 0, kUnbounded,
               "Blocks of fluid at the first frame (boxes or spheres, must not overlap); may be empty when "

@@ -69,6 +69,13 @@ double wallContactRest(const Scene& scene) {
   return face * restWallSum(scene, [&](double r2) { return spikyKernel(h, std::sqrt(r2)); });
 }
 
+// Vec4 blocks of the per-particle boundary buffer (sph_dfsph.glsl): the walls' sums, fluid.wall_contact's
+// excess, with colliders their contact constraint.
+size_t boundaryBlocks(const Scene& scene) {
+  if (!(scene.fluid.wallContact > 0)) return 1;
+  return scene.colliders.empty() ? 2 : 3;
+}
+
 // Where the samples' rest shares take the resting lattice from the max wall rather than the min one
 // (sim_dfsph_boundary_factor.comp, restLatticeFrame()), per axis: past the middle on an axis walled at
 // both faces whose extent is not a whole number of spacings, else never (1e30). Empty where every axis
@@ -239,8 +246,9 @@ DFSPHSolver::DFSPHSolver(const Scene& scene, const DispatchGate& gate, const Sha
       // Constraint walls: the samples' lists and counts follow the particles' (sph_dfsph.glsl).
       neighbors_(size_t(std::max<uint32_t>(particles + listedSamples(scene, boundarySamples), 1)) * 16 *
                  size_t(listSlots_ + 1)),
-      // fluid.wall_contact: a second vec4 per particle after the first N (sph_dfsph.glsl).
-      boundary_(size_t(std::max<uint32_t>(particles, 1)) * 16 * (scene.fluid.wallContact > 0 ? 2 : 1)),
+      // fluid.wall_contact: a second vec4 per particle after the first N, with colliders a third
+      // (sph_dfsph.glsl).
+      boundary_(size_t(std::max<uint32_t>(particles, 1)) * 16 * boundaryBlocks(scene)),
       count_(size_t(std::max<uint32_t>(particles + listedSamples(scene, boundarySamples), 1)) * 4),
       factor_(
           ShaderProgram::compute(simShaderTable(), "sim_dfsph_factor.comp", factorDefines(scene, defines_))),

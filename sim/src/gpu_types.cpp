@@ -299,6 +299,9 @@ ShaderDefines simShaderDefines(const Scene& scene) {
     d.set("SIM_WALL_FRICTION", float(scene.fluid.wallFriction));  // sph_kernels.glsl
   if (usesWendland(scene)) d.set("KERNEL_WENDLAND_C2");
   if (!scene.colliders.empty()) d.set("HAS_COLLIDERS");
+  // fluid.wall_contact at colliders: half a spacing from the surface (sphColliderContact()).
+  if (!scene.colliders.empty() && scene.fluid.wallContact > 0)
+    d.set("SIM_COLLIDER_CONTACT", float(0.5 * scene.fluid.spacing));
   if (std::any_of(scene.colliders.begin(), scene.colliders.end(),
                   [](const Collider& c) { return c.isField(); }))
     d.set("HAS_FIELD_COLLIDERS");

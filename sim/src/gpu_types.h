@@ -122,7 +122,8 @@ double restWallSum(const Scene& scene, const std::function<double(double)>& kern
 
 /// `defines` plus fluid.wall_contact's, where it is above 0 (sph_kernels.glsl, sphWallContact()):
 /// SIM_WALL_CONTACT, the neighbour count (fluid and samples within h) below which it acts, and
-/// SIM_WALL_CONTACT_REST, `restSum`: restWallSum() with the solver's wall kernel and weights.
+/// SIM_WALL_CONTACT_REST, `restSum`: restWallSum() with the solver's wall kernel and weights. (Its
+/// collider half, SIM_COLLIDER_CONTACT, is in simShaderDefines(): WCSPH applies it in the integration.)
 ShaderDefines withWallContact(const Scene& scene, double restSum, ShaderDefines defines);
 
 /// The largest of `f` over the wavevectors k (radians per spacing) of the cubic lattice's irreducible

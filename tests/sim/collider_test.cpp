@@ -170,8 +170,19 @@ TEST(Colliders, SceneWithoutCollidersCompilesNoColliderCode) {
       R"({"fluid": {"spacing": 0.02, "blocks": [{"min": [0,0,0], "max": [0.2,0.2,0.2]}]}})");
   const ShaderDefines d = sim::simShaderDefines(plain);
   EXPECT_FALSE(d.has("HAS_COLLIDERS"));
-  // The collider code is #if'd out of the source, so the compiled integration pass (the only solver pass
-  // with collider code) has no collider buffers at all; with HAS_COLLIDERS it has both.
+  // Nor the colliders' contact (the DFSPH factor pass's and WCSPH's integration's collider code), which
+  // a collider brings with fluid.wall_contact on and only then.
+  ASSERT_GT(plain.fluid.wallContact, 0);
+  EXPECT_FALSE(d.has("SIM_COLLIDER_CONTACT"));
+  Scene withCollider = plain;
+  withCollider.colliders = test::sceneFromJson(R"({"fluid": {"spacing": 0.02, "blocks": [{"min": [0,0,0],
+      "max": [0.2,0.2,0.2]}]}, "colliders": [{"shape": "sphere", "center": [0.5,0.5,0.5], "radius": 0.1}]})")
+                               .colliders;
+  EXPECT_TRUE(sim::simShaderDefines(withCollider).has("SIM_COLLIDER_CONTACT"));
+  withCollider.fluid.wallContact = 0;
+  EXPECT_FALSE(sim::simShaderDefines(withCollider).has("SIM_COLLIDER_CONTACT"));
+  // The collider code is #if'd out of the source, so the compiled integration pass has no collider
+  // buffers at all; with HAS_COLLIDERS it has both.
   auto blocks = [](const ShaderDefines& defines) {
     const ShaderProgram p = ShaderProgram::compute(simShaderTable(), "sim_integrate.comp", defines);
     int n = 0;

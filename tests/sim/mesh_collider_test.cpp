@@ -126,9 +126,9 @@ TEST(MeshColliders, DropsOntoMeshAndVdbCollidersFollowTheAnalyticOnes) {
        R"({"shape": "mesh", "file": ")" + (d / "sphere.stl").string() + "\"}"},
       {"sphere (vdb)", R"({"shape": "sphere", "center": [0.2,0.1,0.1], "radius": 0.08})",
        R"({"shape": "vdb", "file": ")" + (d / "sphere.vdb").string() + "\"}"}};
-  // The wall contact stops spray where the samples' own kernel sum reaches a resting layer's, so where
-  // the splash stops depends on the sample layout itself (with it the two spheres' centres part by 0.52
-  // and 0.59 spacings): it is left out, to compare the representations alone.
+  // The wall contact holds the splash by each representation's own surface distance (the analytic
+  // shape's, the mesh's and the vdb's fields) on top of their samples (with it the centres part by 0.13,
+  // 0.48 and 0.35 spacings): it is left out, to compare the samples alone.
   const auto dropScene = [](const std::string& collider) {
     Scene scene = test::sceneFromJson(withCollider(kDropFluid, collider, kDropTime));
     scene.fluid.wallContact = 0;

@@ -628,6 +628,50 @@ TEST_P(WallContact, ATankAtRestNeverMeetsIt) {
   EXPECT_EQ(with.velocity, bare.velocity);
 }
 
+// The closest any particle centre comes to a sphere collider's surface over the frames of `scene`, in
+// spacings, and the largest gain of the energy per unit mass over the first frame (J/kg).
+std::pair<double, double> closestToSphereAndEnergyGain(const Scene& scene, const Vec3d& centre,
+                                                       double radius) {
+  sim::Simulator sim(scene);
+  const double e0 = energyAndWallGap(scene, sim.cacheFrame()).first;
+  double closest = 1e30, growth = -1e9;
+  while (sim.frame() < scene.time.endFrame) {
+    sim.advance();
+    const ParticleFrame f = sim.cacheFrame();
+    for (const auto& p : f.position)
+      closest = std::min(closest, std::hypot(p[0] - centre[0], p[1] - centre[1], p[2] - centre[2]) - radius);
+    growth = std::max(growth, energyAndWallGap(scene, f).first - e0);
+  }
+  return {closest / scene.fluid.spacing, growth};
+}
+
+TEST_P(WallContact, ASplashOverASphereStaysHalfASpacingOffItsSurface) {
+  // A block dropped onto a sphere collider spreads over a surface that is convex everywhere, where the
+  // walls' kernel sum over a particle is below a flat wall's at the same distance, and the sheet keeps
+  // enough neighbours to count as bulk. The contact holds every particle by its distance to the
+  // collider: half a spacing, less what one step's linearised approach over the curved surface leaves.
+  const std::string json = R"({"domain": {"min": [0,0,0], "max": [0.4,0.5,0.2]},
+      "fluid": {"spacing": 0.02, "blocks": [{"min": [0.14,0.26,0.04], "max": [0.26,0.38,0.16]}]},
+      "colliders": [{"shape": "sphere", "center": [0.2,0.1,0.1], "radius": 0.08}],
+      "time": {"fps": 30, "start_frame": 0, "end_frame": 15}, "solver": {"method": ")" +
+                           GetParam() + "\"}}";
+  const Vec3d centre{0.2, 0.1, 0.1};
+  Scene scene = test::sceneFromJson(json);
+  ASSERT_GT(scene.fluid.wallContact, 0);
+  const double gH = -scene.gravity[1] * 0.38;
+  const auto [closest, growth] = closestToSphereAndEnergyGain(scene, centre, 0.08);
+  std::printf("with the contact: closest %.3f spacings from the sphere, energy gain %.2e J/kg\n", closest,
+              growth);
+  EXPECT_GT(closest, 0.4);
+  EXPECT_LE(growth, 1e-6 * gH);
+
+  // Without it the splash reaches the last-resort clamp (0.05 spacings) somewhere on the sphere.
+  scene.fluid.wallContact = 0;
+  const double bare = closestToSphereAndEnergyGain(scene, centre, 0.08).first;
+  std::printf("without: closest %.3f spacings\n", bare);
+  EXPECT_LT(bare, 0.25);
+}
+
 INSTANTIATE_TEST_SUITE_P(Solvers, WallContact, ::testing::Values("wcsph", "dfsph"), test::solverParamName);
 
 }  // namespace
