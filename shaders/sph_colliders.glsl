@@ -199,41 +199,15 @@ vec4 sphColliderContact(vec3 x, float t, out float rate) {
 }
 #endif
 
-// Pushes a particle at x out of collider c (placed for time t) to `margin` outside its surface, and
-// removes the velocity component into the collider relative to the body's velocity there.
+// Pushes a particle at x out of collider c (placed for time t) to `margin` outside its surface, along the
+// surface's normal (sphColliderDistance()), and removes the velocity component into the collider relative
+// to the body's velocity there.
 void sphProjectOutOfCollider(uint c, float t, float margin, inout vec3 x, inout vec3 v) {
   SphColliderPose pose = sphColliderPose(c, t);
-  vec3 r = sphColliderToRest(c, pose, x);
-  vec3 n = vec3(0.0);
-  uint shape = colliders[c].info.x;
-  if (shape == 0u) {
-    vec3 lo = colliders[c].shapeA.xyz - margin, hi = colliders[c].shapeB.xyz + margin;
-    if (any(lessThanEqual(r, lo)) || any(greaterThanEqual(r, hi))) return;
-    vec3 toLo = r - lo, toHi = hi - r;  // both positive inside: leave through the nearest face
-    float best = toLo.x;
-    n = vec3(-1, 0, 0);
-    for (int k = 0; k < 3; ++k) {
-      if (toLo[k] < best) { best = toLo[k]; n = vec3(0.0); n[k] = -1.0; }
-      if (toHi[k] < best) { best = toHi[k]; n = vec3(0.0); n[k] = 1.0; }
-    }
-    r += n * best;
-  } else if (shape == 1u) {
-    vec3 d = r - colliders[c].shapeA.xyz;
-    float rad = colliders[c].shapeA.w + margin, len = length(d);
-    if (len >= rad) return;
-    n = len > 1e-12 ? d / len : vec3(0, 1, 0);
-    r += n * (rad - len);
-  } else {
-#if defined(HAS_FIELD_COLLIDERS)
-    float d = sphFieldDistance(c, r, n);
-    if (d >= margin) return;
-    r += n * (margin - d);
-#else
-    return;
-#endif
-  }
-  x = sphColliderToWorld(c, pose, r);
-  n = sphColliderDirectionToWorld(pose, n);
+  vec3 n;
+  float d = sphColliderDistance(c, pose, x, n);
+  if (d >= margin) return;
+  x += n * (margin - d);
   float vn = dot(v - sphColliderVelocityAt(c, pose, x), n);
   if (vn < 0.0) v -= vn * n;
 }

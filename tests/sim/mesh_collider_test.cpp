@@ -127,8 +127,8 @@ TEST(MeshColliders, DropsOntoMeshAndVdbCollidersFollowTheAnalyticOnes) {
       {"sphere (vdb)", R"({"shape": "sphere", "center": [0.2,0.1,0.1], "radius": 0.08})",
        R"({"shape": "vdb", "file": ")" + (d / "sphere.vdb").string() + "\"}"}};
   // The wall contact holds the splash by each representation's own surface distance (the analytic
-  // shape's, the mesh's and the vdb's fields) on top of their samples (with it the centres part by 0.13,
-  // 0.48 and 0.35 spacings): it is left out, to compare the samples alone.
+  // shape's, the mesh's and the vdb's fields) on top of their samples (with it the centres part by 0.10,
+  // 0.42 and 0.58 spacings): it is left out, to compare the samples alone.
   const auto dropScene = [](const std::string& collider) {
     Scene scene = test::sceneFromJson(withCollider(kDropFluid, collider, kDropTime));
     scene.fluid.wallContact = 0;
