@@ -9,6 +9,11 @@
 // colliders the samples never move, so it is summed once: BOUNDARY_WALL_SHARE is the variant that
 // writes it (WCSPHSolver, at the first substep), and every substep's variant reads it. (Each sum keeps
 // its order, so the pressures are bit-identical to summing both over every sample every substep.)
+// The samples with fluid within h are among those sim_density.comp marked (-1) this substep; a sample
+// neither marked nor holding a pressure (its slot's last sample had no fluid near, so 0) would write 0
+// again and is skipped, so a domain far larger than its fluid costs little more than its wet walls. With
+// colliders the slots' samples change as they re-sort, but every unmarked sample's pressure is 0.
+// SIM_VISIT_EVERY_SAMPLE (sim::visitEverySample()) visits them all.
 #include "sph_params.glsl"
 #include "sph_textures.glsl"
 #include "sph_neighbors.glsl"
@@ -19,14 +24,17 @@ layout(std430, binding = SPHFX_SSBO_SIM_BOUNDARY_WALL_SHARE) buffer SimBoundaryW
 };
 #endif
 #if !defined(BOUNDARY_WALL_SHARE)
-layout(std430, binding = SPHFX_SSBO_SIM_BOUNDARY_PRESSURE) writeonly buffer SimBoundaryPressure {
-  float boundaryPressure[];  // p_b / rho_b^2 per sorted boundary sample
+layout(std430, binding = SPHFX_SSBO_SIM_BOUNDARY_PRESSURE) buffer SimBoundaryPressure {
+  float boundaryPressure[];  // p_b / rho_b^2 per sorted boundary sample (-1: marked, sim_density.comp)
 };
 #endif
 
 void main() {
   uint b = sphfxGlobalIndex();
   if (b >= simCounts.y) return;
+#if !defined(BOUNDARY_WALL_SHARE) && !defined(SIM_VISIT_EVERY_SAMPLE)
+  if (boundaryPressure[b] == 0.0) return;  // no fluid near, now or at its last pass
+#endif
   vec3 xb = sphFetchBoundaryPos(b).xyz;
   float fluid = 0.0, wall = 0.0;
 #if !defined(BOUNDARY_WALL_SHARE)

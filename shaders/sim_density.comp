@@ -13,6 +13,15 @@ layout(std430, binding = SPHFX_SSBO_SIM_BOUNDARY_CELL_START) readonly buffer Sim
   uint bStart[];
 };
 layout(std430, binding = SPHFX_SSBO_SIM_DENSITY) writeonly buffer SimDensity { vec2 densityPressure[]; };
+// Marks each boundary sample the walk visits (a superset of those within h) for sim_boundary_pressure.comp
+// with -1 in its pressure slot: a pressure is never negative (sphPressure() clamps at 0), so the mark is
+// not a value, and that pass overwrites every slot it finds non-zero.
+#if !defined(SIM_VISIT_EVERY_SAMPLE)
+#define SIM_MARK_SAMPLES
+layout(std430, binding = SPHFX_SSBO_SIM_BOUNDARY_PRESSURE) writeonly buffer SimBoundaryPressure {
+  float boundaryPressure[];
+};
+#endif
 #if defined(SIM_NEIGHBOR_MASKS)
 // Which candidates are within h, for the force pass (which otherwise tests ~7x more candidates than it
 // uses): per row of cells (9 rows), a bit mask over the row's first 32 sorted slots, fluid in words 0-8
@@ -47,6 +56,9 @@ void main() {
         vec3 d = sphDelta(xi, b.xyz);
         float r2 = dot(d, d);
         wall += b.w * sphW(r2);
+#if defined(SIM_MARK_SAMPLES)
+        boundaryPressure[j] = -1.0;  // every visiting invocation writes the same value
+#endif
 #if defined(SIM_NEIGHBOR_MASKS)
         if (r2 < simKernel.w && j - b0 < 32u) wallMask |= 1u << (j - b0);
 #endif

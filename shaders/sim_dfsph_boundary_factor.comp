@@ -8,7 +8,8 @@
 // with its count (sph_dfsph.glsl, dfsphSampleSlot), which the solve's iterations read. A sample with
 // fluid near it joins the wet list (sph_dfsph.glsl, DFSPH_WET_LIST), the only samples the iterations
 // visit; the others get a stiffness increment of 0 for the substep (their particles' wall entries read
-// it).
+// it). A sample no particle's walk visited and without fluid near at its last pass is skipped, its values
+// unchanged (DFSPH_SAMPLES_MARKED, sph_dfsph.glsl).
 // Without colliders, T_b is the share of a fluid filling the domain on its lattice, and the samples keep
 // their sorted order between substeps (the warm start and T_b are per sorted index).
 // DFSPH_BOUNDARY_REST_SHARE: the variant that writes T_b alone, once per solver (DFSPHSolver::
@@ -116,9 +117,12 @@ float restShareAmongColliders(vec3 xb) {
 void main() {
   uint b = sphfxGlobalIndex();
   if (b >= simCounts.y) return;
+  uint at = DFSPH_CAPACITY + b;
+#if defined(DFSPH_SAMPLES_MARKED) && !defined(DFSPH_BOUNDARY_REST_SHARE)
+  if (dfsphSampleCount(b) == 0u) return;  // not marked, and no fluid near at the slot's last pass
+#endif
   vec4 xb = sphFetchBoundaryPos(b);
   float psi = xb.w * dfsphWallScale(xb.xyz);
-  uint at = DFSPH_CAPACITY + b;
 #if defined(DFSPH_BOUNDARY_REST_SHARE)
   dfsph[at].w = psi * restShare(xb.xyz);
 #else

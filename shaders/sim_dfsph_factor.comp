@@ -93,6 +93,9 @@ void main() {
             vec4(g, uintBitsToFloat(j));
         blisted += r2 < simKernel.w ? 1u : 0u;
 #endif
+#if defined(DFSPH_SAMPLES_MARKED)
+        dfCount[n + j] = 1u;  // every visiting invocation writes the same value
+#endif
       }
     SPH_END_FOR_EACH_CELL_RANGE
 #if defined(DFSPH_BOUNDARY_CONSTRAINTS)

@@ -199,6 +199,19 @@ layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_COUNT) writeonly buffer DfsphCount
 layout(std430, binding = SPHFX_SSBO_SIM_DFSPH_BOUNDARY) writeonly buffer DfsphBoundary { vec4 dfBoundary[]; };
 #endif
 
+#if defined(DFSPH_BOUNDARY_CONSTRAINTS) && !defined(SIM_VISIT_EVERY_SAMPLE)
+// Samples that fluid may reach, marked: the particles' factor pass sets dfCount[N + b] to 1 for every
+// sample its walk visits, a superset of those within h of a particle, and the samples' factor pass
+// (sim_dfsph_boundary_factor.comp) skips a sample whose count is 0: not marked, and its slot's sample had
+// no fluid within h at its last pass (a non-zero Jacobi diagonal, dfsph[N + b].x, needs one). Such a
+// sample sums nothing and would write what the slot holds already: without colliders what it wrote when
+// fluid last left it, with colliders (which re-sort the samples every substep) the zeros of every sample
+// without fluid near; a slot never written differs only in dfsph[N + b].y, which is read for samples near
+// fluid alone. So a domain far larger than its fluid costs little more than its wet walls, with the same
+// caches bit for bit (SIM_VISIT_EVERY_SAMPLE, sim::visitEverySample(), visits them all).
+#define DFSPH_SAMPLES_MARKED
+#endif
+
 #if defined(DFSPH_BOUNDARY_CONSTRAINTS) && (defined(DFSPH_LIST_READ) || defined(DFSPH_LIST_WRITE))
 // Each wall sample's list of fluid neighbours (constraint walls), the transpose of the particles' wall
 // entries, built by sim_dfsph_boundary_factor.comp and read by every iteration of the constant-density

@@ -436,6 +436,7 @@ void DFSPHSolver::factorPass(PassTimer& timer, bool frameEnd) const {
     const uint32_t zero = 0, one = 1;
     glClearNamedBufferSubData(wet_.id(), GL_R32UI, 0, 16, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
     glClearNamedBufferSubData(wet_.id(), GL_R32UI, 4, 8, GL_RED_INTEGER, GL_UNSIGNED_INT, &one);
+    timer.begin("dfsph_boundary_factor");
     boundaryFactor_.use();
     gate_->dispatch(boundaryEntry_, "sim_dfsph_boundary_factor.comp");
     storageBarrier();

@@ -6,6 +6,7 @@
 #include <functional>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <string>
 
 #include "dfsph_solver.h"
@@ -372,15 +373,26 @@ std::vector<GpuBlockLayout> simGpuLayouts() {
   return {params, state, colliders};
 }
 
+namespace {
+// An environment variable that forces a choice: 1 or 0, nullopt where unset.
+std::optional<bool> forcedChoice(const char* name) {
+  const char* forced = std::getenv(name);
+  if (!forced) return std::nullopt;
+  const std::string value = forced;
+  if (value == "1") return true;
+  if (value == "0") return false;
+  throw InputError(std::string(name) + ": expected 1 or 0, got \"" + value + "\"");
+}
+}  // namespace
+
 bool workgroupReduce() {
-  if (const char* forced = std::getenv("SPHFX_WORKGROUP_REDUCE")) {
-    const std::string value = forced;
-    if (value == "1") return true;
-    if (value == "0") return false;
-    throw InputError("SPHFX_WORKGROUP_REDUCE: expected 1 or 0, got \"" + value + "\"");
-  }
+  if (const std::optional<bool> forced = forcedChoice("SPHFX_WORKGROUP_REDUCE")) return *forced;
   const auto* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
   return renderer && !isSoftwareRenderer(renderer);
+}
+
+bool visitEverySample() {
+  return forcedChoice("SPHFX_VISIT_EVERY_SAMPLE").value_or(false);
 }
 
 }  // namespace sphfx::sim

@@ -203,6 +203,13 @@ ShaderDefines simShaderDefines(const Scene& scene);
 /// @throws InputError if SPHFX_WORKGROUP_REDUCE is set to anything else
 bool workgroupReduce();
 
+/// Whether the wall samples' per-substep passes visit every sample (SIM_VISIT_EVERY_SAMPLE), rather than
+/// skipping those that no particle reached and that had no fluid near (DFSPH_SAMPLES_MARKED in
+/// sph_dfsph.glsl, sim_boundary_pressure.comp), which changes no result: off unless the environment
+/// variable SPHFX_VISIT_EVERY_SAMPLE is 1 (tests run both paths).
+/// @throws InputError if SPHFX_VISIT_EVERY_SAMPLE is set to anything but 1 or 0
+bool visitEverySample();
+
 /// Every C++-mirrored block of the simulation stage, for the layout tests.
 std::vector<GpuBlockLayout> simGpuLayouts();
 

@@ -48,6 +48,7 @@ Simulator::Simulator(const Scene& scene, const std::string& shotDir)
   if (capacity_ == 0) throw InputError("fluid.blocks: the blocks hold no particles at this spacing");
   defines_ = simShaderDefines(scene);
   if (workgroupReduce()) defines_.set("SIM_WORKGROUP_REDUCE");
+  if (visitEverySample()) defines_.set("SIM_VISIT_EVERY_SAMPLE");
   gate_ = std::make_unique<DispatchGate>(capacity_);
   const GridSpec spec = GridSpec::forScene(scene);
   warnIfWallLatticeMisfits(scene);

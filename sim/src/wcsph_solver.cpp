@@ -50,6 +50,7 @@ void WCSPHSolver::sumWallShares() const {
 void WCSPHSolver::computeDensity(PassTimer& timer) const {
   timer.begin("density");
   neighbors_.bindStorage(SPHFX_SSBO_SIM_NEIGHBORS);
+  boundaryPressures_.bindStorage(SPHFX_SSBO_SIM_BOUNDARY_PRESSURE);  // the samples' marks
   density_.use();
   gate_->dispatch(DispatchGate::kParticleEntry, "sim_density.comp");
   storageBarrier();

@@ -9,6 +9,7 @@
 #include <iterator>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "sim_test_util.h"
 #include "sphfx/core/manifest.h"
@@ -113,5 +114,36 @@ TEST_P(ShotReductions, BothReductionsGiveTheSameCaches) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Solvers, ShotReductions, ::testing::Values("wcsph", "dfsph"), test::solverParamName);
+
+class ShotSampleSkip : public test::SolverTest {};
+
+// The wall samples' passes skip a sample that no particle's walk reached and that had no fluid near at
+// its last pass (DFSPH_SAMPLES_MARKED in sph_dfsph.glsl, sim_boundary_pressure.comp): what it would
+// write is what its slot holds. Against SPHFX_VISIT_EVERY_SAMPLE=1, which visits every sample every
+// substep, the caches are the same bytes: a dam break whose surge wets the floor and runs up the far wall
+// (samples reached, then left), and the same with a box rising through the fluid (colliders re-sort the
+// samples every substep, so a slot's sample changes).
+TEST_P(ShotSampleSkip, SkippingSamplesWithoutFluidNearChangesNoCache) {
+  constexpr int kFrames = 12;  // 0.4 s: the surge reaches the far wall at about 0.3 s
+  const std::string box = R"(colliders=[{"shape": "box", "min": [0.45, 0.0, 0.0], "max": [0.55, 0.05, 0.1],
+      "keyframes": [{"time": 0.0, "offset": [0, 0, 0]}, {"time": 0.4, "offset": [0, 0.2, 0]}]}])";
+  for (const bool collider : {false, true}) {
+    std::vector<std::string> overrides = {"fluid.spacing=0.025", "time.end_frame=" + std::to_string(kFrames),
+                                          "cache.attributes=[\"density\",\"pressure\"]",
+                                          "solver.method=" + GetParam()};
+    if (collider) overrides.push_back(box);
+    const Scene scene = loadScene(std::string(SPHFX_SOURCE_DIR) + "/scenes/dam_break.json", overrides);
+    std::string shots[2];
+    for (int every : {0, 1}) {
+      const ScopedEnv env("SPHFX_VISIT_EVERY_SAMPLE", every ? "1" : "0");
+      shots[every] = test::simulateTestShot(
+          "samples" + std::to_string(every) + (collider ? "box" : "") + GetParam(), scene);
+    }
+    for (int f = 1; f <= kFrames; ++f)
+      expectSameCache(particleCachePath(shots[0], f), particleCachePath(shots[1], f));
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Solvers, ShotSampleSkip, ::testing::Values("wcsph", "dfsph"), test::solverParamName);
 
 }  // namespace
