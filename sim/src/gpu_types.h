@@ -196,10 +196,11 @@ std::optional<double> dfsphCappedDensityTolerance(const Scene& scene);
 /// SIM_OPEN_FACES bits, SIM_KILL_BOXES count). Leaves out what the scene does not use.
 ShaderDefines simShaderDefines(const Scene& scene);
 
-/// Whether the passes reduce through work-group shared memory (SIM_WORKGROUP_REDUCE, sph_group_max.glsl
-/// and sim_dfsph_source.comp): on hardware GPUs, not on CPU rasterisers (llvmpipe), where barriers cost
-/// more than per-invocation atomics and sums. The environment variable SPHFX_WORKGROUP_REDUCE=1 or 0
-/// forces it (tests run both paths on one device). Reads the current GL context's renderer.
+/// Whether the passes reduce through work-group shared memory (SIM_WORKGROUP_REDUCE, sph_group_max.glsl,
+/// sim_dfsph_source.comp and the grid's scan, sim_scan_blocks.comp): on hardware GPUs, not on CPU
+/// rasterisers (llvmpipe), where barriers cost more than per-invocation atomics and sums. The environment
+/// variable SPHFX_WORKGROUP_REDUCE=1 or 0 forces it (tests run both paths on one device). Reads the current
+/// GL context's renderer.
 /// @throws InputError if SPHFX_WORKGROUP_REDUCE is set to anything else
 bool workgroupReduce();
 

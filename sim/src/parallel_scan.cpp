@@ -1,20 +1,30 @@
 #include "parallel_scan.h"
 
 #include "bindings.h"
+#include "gpu_types.h"
 #include "sim_shaders.h"
 #include "sphfx/gpu/gl.h"
 
 namespace sphfx::sim {
 
-ExclusiveScan::ExclusiveScan(DispatchGate& gate, uint32_t count)
-    : gate_(&gate),
-      count_(count),
-      blocks_(ShaderProgram::compute(simShaderTable(), "sim_scan_blocks.comp")),
-      add_(ShaderProgram::compute(simShaderTable(), "sim_scan_add.comp")) {
+namespace {
+ShaderDefines levelDefines(bool workgroups) {
+  ShaderDefines d;
+  if (workgroups) d.set("SIM_WORKGROUP_REDUCE");
+  return d;
+}
+}  // namespace
+
+ExclusiveScan::ExclusiveScan(DispatchGate& gate, uint32_t count) : gate_(&gate), count_(count) {
+  const bool workgroups = workgroupReduce();
+  blocks_ = ShaderProgram::compute(simShaderTable(), "sim_scan_blocks.comp", levelDefines(workgroups));
+  add_ = ShaderProgram::compute(simShaderTable(), "sim_scan_add.comp");
   uint32_t n = count;
   do {
     const uint32_t blocks = (n + kBlock - 1) / kBlock;
-    levels_.push_back({n, GpuBuffer(std::max<size_t>(blocks, 1) * 4), gate.add(blocks * 256, 256)});
+    const uint32_t add = gate.add(blocks * 256, 256);
+    const uint32_t level = workgroups ? add : gate.add(blocks, 64);
+    levels_.push_back({n, GpuBuffer(std::max<size_t>(blocks, 1) * 4), level, add});
     n = blocks;
   } while (n > 1);
 }
@@ -38,7 +48,7 @@ void ExclusiveScan::run(const GpuBuffer& data) const {
     levels_[k].sums.bindStorage(SPHFX_SSBO_SIM_SCAN_SUMS);
     add_.use();
     glUniform1ui(add_.uniform("uCount"), levels_[k].count);
-    gate_->dispatch(levels_[k].entry, "sim_scan_add.comp");
+    gate_->dispatch(levels_[k].addEntry, "sim_scan_add.comp");
     storageBarrier();
   }
 }

@@ -24,24 +24,29 @@ using Vec4 = std::array<float, 4>;
 
 namespace {
 
+// Both level passes: the work-group scan of hardware GPUs and the serial blocks of CPU rasterisers
+// (SPHFX_WORKGROUP_REDUCE forces either), at sizes around the 1024-value blocks and over three levels.
 TEST(Scan, ExclusivePrefixSumMatchesCpu) {
   auto ctx = test::makeContext();
-  std::mt19937 rng(7);
-  for (uint32_t n : {1u, 63u, 64u, 65u, 1023u, 1024u, 1025u, 4097u, 1100003u}) {
-    std::vector<uint32_t> v(n);
-    for (auto& x : v) x = rng() % 9;
-    sim::DispatchGate gate(1);
-    sim::ExclusiveScan scan(gate, n);
-    gate.arm();
-    GpuBuffer data(n * 4);
-    data.uploadVector(v);
-    scan.run(data);
-    glMemoryBarrier(GL_ALL_BARRIER_BITS);
-    const auto got = data.downloadVector<uint32_t>(n);
-    uint32_t sum = 0;
-    for (uint32_t i = 0; i < n; ++i) {
-      ASSERT_EQ(got[i], sum) << "n=" << n << " i=" << i;
-      sum += v[i];
+  for (const char* workgroups : {"1", "0"}) {
+    const test::ScopedEnv env("SPHFX_WORKGROUP_REDUCE", workgroups);
+    std::mt19937 rng(7);
+    for (uint32_t n : {1u, 63u, 64u, 65u, 1023u, 1024u, 1025u, 4097u, 1100003u}) {
+      std::vector<uint32_t> v(n);
+      for (auto& x : v) x = rng() % 9;
+      sim::DispatchGate gate(1);
+      sim::ExclusiveScan scan(gate, n);
+      gate.arm();
+      GpuBuffer data(n * 4);
+      data.uploadVector(v);
+      scan.run(data);
+      glMemoryBarrier(GL_ALL_BARRIER_BITS);
+      const auto got = data.downloadVector<uint32_t>(n);
+      uint32_t sum = 0;
+      for (uint32_t i = 0; i < n; ++i) {
+        ASSERT_EQ(got[i], sum) << "work groups " << workgroups << ", n=" << n << " i=" << i;
+        sum += v[i];
+      }
     }
   }
 }

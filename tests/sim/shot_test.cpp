@@ -67,31 +67,11 @@ TEST(Shot, TwoRunsGiveIdenticalCachesAndResumeEqualsUninterrupted) {
   EXPECT_EQ(m["simulate"]["particle_count"], frame.size());
 }
 
-// Sets an environment variable for its lifetime, restoring the previous value (or its absence).
-class ScopedEnv {
- public:
-  ScopedEnv(const char* name, const char* value) : name_(name) {
-    if (const char* old = std::getenv(name)) old_ = old;
-    setenv(name, value, 1);
-  }
-  ~ScopedEnv() {
-    if (old_)
-      setenv(name_, old_->c_str(), 1);
-    else
-      unsetenv(name_);
-  }
-  ScopedEnv(const ScopedEnv&) = delete;
-  ScopedEnv& operator=(const ScopedEnv&) = delete;
-
- private:
-  const char* name_;
-  std::optional<std::string> old_;
-};
-
 class ShotReductions : public test::SolverTest {};
 
-// SIM_WORKGROUP_REDUCE (hardware GPUs: shared-memory reductions per work group) against the CPU
-// rasterisers' per-invocation atomics and per-particle residuals, forced on one device: the largest
+// SIM_WORKGROUP_REDUCE (hardware GPUs: shared-memory reductions and grid scans per work group) against
+// the CPU rasterisers' per-invocation atomics, per-particle residuals and serial scan blocks, forced on one
+// device: the scans give the same integers, so the same grids; the largest
 // speed, acceleration and density do not depend on the order they are taken in, so the steps, and
 // with them the caches, are the same bytes. DFSPH's residual averages are sums in another order; they
 // decide when a solve stops, so the same caches also say that every decision came out the same.
@@ -102,7 +82,7 @@ TEST_P(ShotReductions, BothReductionsGiveTheSameCaches) {
                  "solver.method=" + GetParam()});
   std::string shots[2];
   for (int reduce : {0, 1}) {
-    const ScopedEnv env("SPHFX_WORKGROUP_REDUCE", reduce ? "1" : "0");
+    const test::ScopedEnv env("SPHFX_WORKGROUP_REDUCE", reduce ? "1" : "0");
     shots[reduce] = test::simulateTestShot("reduce" + std::to_string(reduce) + GetParam(), scene);
   }
   const ManifestJson a = readManifest(shots[0]), b = readManifest(shots[1]);
@@ -135,7 +115,7 @@ TEST_P(ShotSampleSkip, SkippingSamplesWithoutFluidNearChangesNoCache) {
     const Scene scene = loadScene(std::string(SPHFX_SOURCE_DIR) + "/scenes/dam_break.json", overrides);
     std::string shots[2];
     for (int every : {0, 1}) {
-      const ScopedEnv env("SPHFX_VISIT_EVERY_SAMPLE", every ? "1" : "0");
+      const test::ScopedEnv env("SPHFX_VISIT_EVERY_SAMPLE", every ? "1" : "0");
       shots[every] = test::simulateTestShot(
           "samples" + std::to_string(every) + (collider ? "box" : "") + GetParam(), scene);
     }
