@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "simulator.h"
+#include "sphfx/core/error.h"
 #include "sphfx/core/scene.h"
 #include "sphfx/gpu/gl.h"
 #include "sphfx/gpu/gl_context.h"
@@ -69,12 +70,18 @@ Options parse(int argc, char** argv) {
 
 Scene makeScene(const Options& o, double particles, int frames) {
   const std::string& path = o.scene;
-  const Scene base = loadScene(path);
-  const FluidBlock& b = base.fluid.blocks.front();
-  const double volume = (b.max[0] - b.min[0]) * (b.max[1] - b.min[1]) * (b.max[2] - b.min[2]);
   std::vector<std::string> sets = {fmt::format("time.fps={}", o.fps), "time.start_frame=0",
                                    fmt::format("time.end_frame={}", frames)};
-  if (particles > 0) sets.push_back(fmt::format("fluid.spacing={:.6g}", std::cbrt(volume / particles)));
+  if (particles > 0) {  // the spacing that fills the first block with about that many particles
+    const Scene base = loadScene(path);
+    if (base.fluid.blocks.empty())
+      throw InputError(path +
+                       ": --particles N scales fluid.blocks[0], and the scene has no block (use "
+                       "--particles 0, the scene's own spacing)");
+    const FluidBlock& b = base.fluid.blocks.front();
+    const double volume = (b.max[0] - b.min[0]) * (b.max[1] - b.min[1]) * (b.max[2] - b.min[2]);
+    sets.push_back(fmt::format("fluid.spacing={:.6g}", std::cbrt(volume / particles)));
+  }
   sets.insert(sets.end(), o.sets.begin(), o.sets.end());
   return loadScene(path, sets);
 }
