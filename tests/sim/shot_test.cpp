@@ -3,11 +3,9 @@
 // CPU rasterisers' reductions give the same run.
 #include <gtest/gtest.h>
 
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
-#include <optional>
 #include <string>
 #include <vector>
 
@@ -70,11 +68,11 @@ TEST(Shot, TwoRunsGiveIdenticalCachesAndResumeEqualsUninterrupted) {
 class ShotReductions : public test::SolverTest {};
 
 // SIM_WORKGROUP_REDUCE (hardware GPUs: shared-memory reductions and grid scans per work group) against
-// the CPU rasterisers' per-invocation atomics, per-particle residuals and serial scan blocks, forced on one
-// device: the scans give the same integers, so the same grids; the largest
-// speed, acceleration and density do not depend on the order they are taken in, so the steps, and
-// with them the caches, are the same bytes. DFSPH's residual averages are sums in another order; they
-// decide when a solve stops, so the same caches also say that every decision came out the same.
+// the CPU rasterisers' per-invocation atomics, per-particle residuals and serial scan blocks, forced on
+// one device: the scans give the same integers, so the same grids; the largest speed, acceleration and
+// density do not depend on the order they are taken in, so the steps, and with them the caches, are the
+// same bytes. DFSPH's residual averages are sums in another order; they decide when a solve stops, so
+// the same caches also say that every decision came out the same.
 TEST_P(ShotReductions, BothReductionsGiveTheSameCaches) {
   const Scene scene =
       loadScene(std::string(SPHFX_SOURCE_DIR) + "/scenes/dam_break.json",
